@@ -1,0 +1,19 @@
+# All third-party dependencies, found once. Every one is a Debian 12 package
+# installed by scripts/install-deps.sh.
+
+# MRPT 2.5: each module is its own CMake package exporting mrpt::<module>.
+foreach(m core containers math poses obs serialization io img system opengl graphs graphslam)
+  find_package(mrpt-${m} REQUIRED)
+endforeach()
+
+find_package(OpenCV 4 REQUIRED COMPONENTS core imgproc imgcodecs features2d video calib3d dnn)
+find_package(Eigen3 3.3 REQUIRED NO_MODULE)
+find_package(Ceres 2 REQUIRED)
+find_package(GTest REQUIRED)
+
+# PCL and assimp are only needed by the map exporter; found lazily by
+# lib/mapexport so that the rest of the tree builds fast.
+find_package(Threads REQUIRED)
+find_package(PkgConfig REQUIRED)
+
+add_compile_definitions(DYNSLAM_VERSION="${PROJECT_VERSION}")

@@ -1,0 +1,64 @@
+#include "cli/commands.h"
+
+#include <cstdio>
+#include <cstring>
+#include <exception>
+#include <string>
+
+#include "core/errors.h"
+
+namespace dynslam::cli {
+
+const std::vector<Subcommand>& subcommands() {
+  static const std::vector<Subcommand> cmds = {
+      {"convert", "convert a TUM RGB-D sequence folder into an MRPT rawlog", convertMain},
+      {"run", "run SLAM on a TUM folder or rawlog; writes trajectory, keyframes, report",
+       runMain},
+      {"eval", "ATE / RPE / coverage of an estimated trajectory against groundtruth",
+       evalMain},
+  };
+  return cmds;
+}
+
+static void printUsage(std::FILE* out) {
+  std::fprintf(out,
+               "dynslam: RGB-D SLAM that keeps working when people walk through the scene\n\n"
+               "usage: dynslam COMMAND [ARGS...]\n"
+               "       dynslam COMMAND --help\n\ncommands:\n");
+  for (const auto& c : subcommands())
+    std::fprintf(out, "  %-10s %s\n", c.name.c_str(), c.summary.c_str());
+}
+
+int dispatch(int argc, char** argv) {
+  if (argc < 2) {
+    printUsage(stderr);
+    return kUsage;
+  }
+  const std::string name = argv[1];
+  if (name == "--help" || name == "-h" || name == "help") {
+    printUsage(stdout);
+    return kOk;
+  }
+  if (name == "--version") {
+    std::printf("dynslam " DYNSLAM_VERSION "\n");
+    return kOk;
+  }
+  for (const auto& c : subcommands()) {
+    if (c.name != name) continue;
+    std::string prog = "dynslam " + name;
+    std::vector<char*> args;
+    args.push_back(prog.data());
+    for (int i = 2; i < argc; ++i) args.push_back(argv[i]);
+    try {
+      return c.main(static_cast<int>(args.size()), args.data());
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "%s: error: %s\n", prog.c_str(), e.what());
+      return kFailure;
+    }
+  }
+  std::fprintf(stderr, "dynslam: unknown command '%s'\n\n", name.c_str());
+  printUsage(stderr);
+  return kUsage;
+}
+
+}  // namespace dynslam::cli

@@ -1,0 +1,30 @@
+#pragma once
+// The `dynslam` subcommands. Each one parses its own arguments (TCLAP, shipped
+// with MRPT) and calls into the libraries; apps/dynslam.cpp only dispatches.
+#include <string>
+#include <vector>
+
+namespace dynslam::cli {
+
+/// Exit codes shared by all subcommands.
+enum ExitCode : int { kOk = 0, kFailure = 1, kUsage = 2 };
+
+struct Subcommand {
+  std::string name;
+  std::string summary;
+  /// argv[0] is "dynslam NAME".
+  int (*main)(int argc, char** argv);
+};
+
+const std::vector<Subcommand>& subcommands();
+
+/// Runs `dynslam ARGS`: picks the subcommand, turns exceptions into a one-line
+/// "dynslam NAME: error: ..." on stderr and a non-zero exit code.
+int dispatch(int argc, char** argv);
+
+// Subcommand entry points (one file each in this folder).
+int convertMain(int argc, char** argv);
+int runMain(int argc, char** argv);
+int evalMain(int argc, char** argv);
+
+}  // namespace dynslam::cli

@@ -1,0 +1,77 @@
+#include "core/atomic_file.h"
+
+#include <unistd.h>
+
+#include <atomic>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
+
+namespace dynslam {
+namespace fs = std::filesystem;
+
+namespace {
+std::string tempNameFor(const std::string& final_path) {
+  static std::atomic<unsigned> counter{0};
+  const fs::path p(final_path);
+  const std::string name = "." + p.filename().string() + ".tmp" +
+                           std::to_string(::getpid()) + "_" +
+                           std::to_string(counter++);
+  return (p.parent_path() / name).string();
+}
+}  // namespace
+
+AtomicPath::AtomicPath(std::string final_path)
+    : final_(std::move(final_path)), tmp_(tempNameFor(final_)) {}
+
+AtomicPath::~AtomicPath() {
+  if (!committed_) {
+    std::error_code ec;
+    fs::remove(tmp_, ec);
+  }
+}
+
+void AtomicPath::commit() {
+  std::error_code ec;
+  fs::rename(tmp_, final_, ec);
+  if (ec) {
+    throw std::runtime_error(final_ + ": cannot write (" + ec.message() + ")");
+  }
+  committed_ = true;
+}
+
+void writeFileAtomically(const std::string& path,
+                         const std::function<void(std::ostream&)>& writer,
+                         bool binary) {
+  AtomicPath out(path);
+  {
+    std::ofstream f(out.tmp(), binary ? std::ios::binary : std::ios::out);
+    if (!f) throw std::runtime_error(path + ": cannot open for writing");
+    writer(f);
+    f.flush();
+    if (!f) throw std::runtime_error(path + ": write failed");
+  }
+  out.commit();
+}
+
+bool fileExists(const std::string& path) {
+  std::error_code ec;
+  return fs::is_regular_file(path, ec);
+}
+
+bool isDirectory(const std::string& path) {
+  std::error_code ec;
+  return fs::is_directory(path, ec);
+}
+
+void makeDirectories(const std::string& path) {
+  std::error_code ec;
+  fs::create_directories(path, ec);
+  if (ec || !isDirectory(path)) {
+    throw std::runtime_error(path + ": cannot create directory (" +
+                             ec.message() + ")");
+  }
+}
+
+}  // namespace dynslam

@@ -1,0 +1,44 @@
+#pragma once
+// Output files are written under a temporary name in the same folder and
+// renamed into place only when complete, so an interrupted or failed run never
+// leaves a half-written trajectory, report or map that looks valid.
+#include <functional>
+#include <ostream>
+#include <string>
+
+namespace dynslam {
+
+/// Temporary sibling path for `final_path`; renamed onto it by commit().
+/// If destroyed without commit() the temporary file is removed.
+/// Use it with writers that take a path (PCL, assimp, OpenCV, MRPT).
+class AtomicPath {
+ public:
+  explicit AtomicPath(std::string final_path);
+  ~AtomicPath();
+  AtomicPath(const AtomicPath&) = delete;
+  AtomicPath& operator=(const AtomicPath&) = delete;
+
+  /// Where the writer should write.
+  const std::string& tmp() const { return tmp_; }
+  const std::string& finalPath() const { return final_; }
+  /// Renames tmp() onto the final path; throws std::runtime_error on failure.
+  void commit();
+
+ private:
+  std::string final_;
+  std::string tmp_;
+  bool committed_ = false;
+};
+
+/// Writes a text/binary file atomically through a stream callback.
+/// Throws std::runtime_error naming the path if the file cannot be written.
+void writeFileAtomically(const std::string& path,
+                         const std::function<void(std::ostream&)>& writer,
+                         bool binary = false);
+
+bool fileExists(const std::string& path);
+bool isDirectory(const std::string& path);
+/// Creates the directory and its parents; throws naming the path on failure.
+void makeDirectories(const std::string& path);
+
+}  // namespace dynslam

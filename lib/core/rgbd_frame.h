@@ -1,0 +1,36 @@
+#pragma once
+// One RGB-D input frame and the interface every input (TUM folder, MRPT rawlog)
+// implements, so the SLAM pipeline never knows where frames come from.
+#include <opencv2/core.hpp>
+
+#include <memory>
+#include <string>
+
+#include "core/camera.h"
+
+namespace dynslam {
+
+struct RGBDFrame {
+  std::size_t index = 0;      ///< 0-based position in the sequence
+  double timestamp = 0;       ///< RGB timestamp (s); trajectories use it
+  double depth_timestamp = 0; ///< depth timestamp (s)
+  cv::Mat rgb;                ///< CV_8UC3, BGR (OpenCV order)
+  cv::Mat depth;              ///< CV_16UC1 raw units (camera().depth_scale per metre)
+  std::string rgb_source;     ///< file the RGB came from (for messages, export)
+  std::string depth_source;
+};
+
+class FrameSource {
+ public:
+  virtual ~FrameSource() = default;
+  /// Number of frames (associated RGB-D pairs).
+  virtual std::size_t size() const = 0;
+  /// Loads frame i (0 <= i < size()). Throws InputError naming the file on
+  /// unreadable images, non-16-bit depth or a size that disagrees with camera().
+  virtual RGBDFrame load(std::size_t i) const = 0;
+  virtual const PinholeCamera& camera() const = 0;
+  /// Human-readable origin (folder or rawlog path).
+  virtual std::string description() const = 0;
+};
+
+}  // namespace dynslam

@@ -1,0 +1,58 @@
+#include "core/trajectory.h"
+
+#include <mrpt/math/CQuaternion.h>
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+
+#include "core/atomic_file.h"
+#include "core/errors.h"
+#include "core/text_table.h"
+
+namespace dynslam {
+
+Trajectory readTumTrajectory(const std::string& path) {
+  Trajectory traj;
+  forEachDataLine(path, [&](const TextLine& line) {
+    const std::vector<double> v = line.numbers(8, 8);
+    for (double x : v)
+      if (!std::isfinite(x)) line.fail("non-finite value");
+    const double qn = std::sqrt(v[4] * v[4] + v[5] * v[5] + v[6] * v[6] + v[7] * v[7]);
+    if (!(std::abs(qn - 1.0) <= 0.1))
+      line.fail("quaternion qx qy qz qw has norm " + std::to_string(qn) +
+                " (expected 1)");
+    if (!traj.empty() && !(v[0] > traj.back().timestamp))
+      line.fail("timestamp " + line.field(0) + " is not after the previous one");
+    mrpt::math::CQuaternionDouble q(v[7] / qn, v[4] / qn, v[5] / qn, v[6] / qn);
+    traj.push_back({v[0], mrpt::poses::CPose3D(q, v[1], v[2], v[3])});
+  });
+  return traj;
+}
+
+std::string formatTumLine(const StampedPose& p) {
+  mrpt::math::CQuaternionDouble q;
+  p.pose.getAsQuaternion(q);
+  // Keep qw >= 0 for a canonical sign (q and -q are the same rotation).
+  const double s = q.r() < 0 ? -1.0 : 1.0;
+  char buf[256];
+  std::snprintf(buf, sizeof buf, "%.6f %.7f %.7f %.7f %.7f %.7f %.7f %.7f",
+                p.timestamp, p.pose.x(), p.pose.y(), p.pose.z(), s * q.x(),
+                s * q.y(), s * q.z(), s * q.r());
+  return buf;
+}
+
+void writeTumTrajectory(const std::string& path, const Trajectory& traj,
+                        const std::string& header) {
+  writeFileAtomically(path, [&](std::ostream& os) {
+    if (!header.empty()) {
+      std::istringstream hs(header);
+      for (std::string l; std::getline(hs, l);) os << "# " << l << "\n";
+    }
+    os << "# timestamp tx ty tz qx qy qz qw\n";
+    for (const auto& p : traj) os << formatTumLine(p) << "\n";
+  });
+}
+
+}  // namespace dynslam

@@ -1,0 +1,33 @@
+#pragma once
+// Timestamped camera poses and the TUM trajectory text format
+// ("timestamp tx ty tz qx qy qz qw", camera-to-world), the lingua franca of
+// RGB-D SLAM evaluation: groundtruth, our estimates and keyframe lists all use it.
+#include <mrpt/poses/CPose3D.h>
+
+#include <string>
+#include <vector>
+
+namespace dynslam {
+
+struct StampedPose {
+  double timestamp = 0;
+  mrpt::poses::CPose3D pose;  ///< camera-to-world
+};
+using Trajectory = std::vector<StampedPose>;
+
+/// Reads a TUM-format trajectory. Blank lines and '#' comments are skipped.
+/// Throws InputError("path:line: ...") for: missing file, a line without 8
+/// numbers, non-finite values, a quaternion whose norm is not within 10 % of 1
+/// (it is normalised otherwise), timestamps not strictly increasing.
+Trajectory readTumTrajectory(const std::string& path);
+
+/// Writes a TUM-format trajectory atomically (temporary file, then rename).
+/// `header` lines are written as '#' comments.
+void writeTumTrajectory(const std::string& path, const Trajectory& traj,
+                        const std::string& header = "");
+
+/// Formats one TUM line (no newline): 6 decimals for the time, 7 significant
+/// digits after the point for translation and quaternion.
+std::string formatTumLine(const StampedPose& p);
+
+}  // namespace dynslam

@@ -1,0 +1,35 @@
+#!/usr/bin/env bash
+# Installs every Debian 12 package dynslam needs to build, test and benchmark.
+# Idempotent: packages already present are left alone; safe to run repeatedly.
+set -euo pipefail
+
+PACKAGES=(
+  build-essential cmake pkg-config
+  libmrpt-dev mrpt-apps            # poses, Lie algebra, rawlogs, graph-SLAM, opengl; rawlog-edit for checks
+  libopencv-dev                    # images, ORB/FAST, LK flow, RANSAC, DNN (ONNX)
+  libeigen3-dev                    # linear algebra, umeyama
+  libpcl-dev                       # voxel grid, outlier removal, PLY I/O
+  libassimp-dev                    # glTF 2.0 export
+  libosmesa6-dev                   # off-screen rendering without X or GPU
+  libceres-dev                     # bundle adjustment
+  libgtest-dev                     # unit tests
+  python3 python3-opencv python3-numpy  # only for ../shared/tools/make_dynamic_sequence.py (test data)
+)
+
+missing=()
+for p in "${PACKAGES[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "install-deps: all ${#PACKAGES[@]} packages already installed"
+  exit 0
+fi
+
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
+echo "install-deps: installing ${missing[*]}"
+$SUDO apt-get update -q
+DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -q --no-install-recommends "${missing[@]}"

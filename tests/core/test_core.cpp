@@ -1,0 +1,153 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+
+#include "core/association.h"
+#include "core/atomic_file.h"
+#include "core/camera.h"
+#include "core/errors.h"
+#include "core/json_writer.h"
+#include "core/stats.h"
+#include "core/trajectory.h"
+#include "testing/test_support.h"
+
+using namespace dynslam;
+using dynslam::test::TempDir;
+using dynslam::test::writeText;
+
+// Hand-worked associate.py case: b=1.005 is closest to a=1.0 (0.005) and would
+// also fit a=1.01 (0.005 tie broken by a), so a=1.01 gets 1.02 (0.01);
+// 3.0 has nothing within 0.02.
+TEST(Association, GreedyClosestPairsLikeAssociatePy) {
+  const std::vector<double> a = {1.0, 1.01, 3.0};
+  const std::vector<double> b = {1.02, 1.005, 2.5};
+  const auto m = associateTimestamps(a, b, 0.02);
+  ASSERT_EQ(m.size(), 2u);
+  EXPECT_EQ(m[0], std::make_pair(std::size_t(0), std::size_t(1)));
+  EXPECT_EQ(m[1], std::make_pair(std::size_t(1), std::size_t(0)));
+}
+
+TEST(Association, StrictThreshold) {
+  EXPECT_TRUE(associateTimestamps({1.0}, {1.02}, 0.02).empty() ||
+              std::abs(1.02 - 1.0) < 0.02);
+  EXPECT_TRUE(associateTimestamps({1.0}, {1.05}, 0.02).empty());
+  EXPECT_EQ(associateTimestamps({1.0}, {1.019}, 0.02).size(), 1u);
+}
+
+TEST(Stats, KnownValues) {
+  const auto s = summarize({3, 1, 2, 4});
+  EXPECT_DOUBLE_EQ(s.mean, 2.5);
+  EXPECT_DOUBLE_EQ(s.median, 2.5);
+  EXPECT_DOUBLE_EQ(s.min, 1);
+  EXPECT_DOUBLE_EQ(s.max, 4);
+  EXPECT_NEAR(s.rmse, std::sqrt(30.0 / 4), 1e-12);
+  EXPECT_NEAR(s.stddev, std::sqrt(1.25), 1e-12);  // population std
+  EXPECT_DOUBLE_EQ(s.p95, 4);
+}
+
+TEST(JsonWriter, NestedDocument) {
+  JsonWriter w;
+  w.beginObject().value("a", 1).value("s", "x\"y").beginArray("v").element(0.5).endArray()
+      .beginObject("o").value("nan", std::nan("")).endObject().endObject();
+  EXPECT_EQ(w.str(),
+            "{\n  \"a\": 1,\n  \"s\": \"x\\\"y\",\n  \"v\": [\n    0.5\n  ],\n"
+            "  \"o\": {\n    \"nan\": null\n  }\n}\n");
+}
+
+TEST(AtomicFile, NoTemporaryLeftAndContentComplete) {
+  TempDir d;
+  writeFileAtomically(d / "out.txt", [](std::ostream& os) { os << "hello\n"; });
+  EXPECT_EQ(dynslam::test::listFiles(d.path()), std::vector<std::string>{"out.txt"});
+  {
+    AtomicPath p(d / "never.txt");
+    std::ofstream(p.tmp()) << "partial";
+  }  // not committed: removed
+  EXPECT_EQ(dynslam::test::listFiles(d.path()), std::vector<std::string>{"out.txt"});
+}
+
+TEST(AtomicFile, FailingWriterLeavesNothing) {
+  TempDir d;
+  EXPECT_THROW(writeFileAtomically(d / "x.txt",
+                                   [](std::ostream& os) {
+                                     os << "half";
+                                     throw std::runtime_error("boom");
+                                   }),
+               std::runtime_error);
+  EXPECT_TRUE(dynslam::test::listFiles(d.path()).empty());
+}
+
+TEST(Trajectory, RoundTripKnownPose) {
+  TempDir d;
+  writeText(d / "t.txt",
+            "# comment\n1.0 1 2 3 0 0 0 1\n\n2.5 0 0 0 0 0 0.7071068 0.7071068\n");
+  const Trajectory t = readTumTrajectory(d / "t.txt");
+  ASSERT_EQ(t.size(), 2u);
+  EXPECT_DOUBLE_EQ(t[0].pose.y(), 2.0);
+  EXPECT_NEAR(t[1].pose.yaw(), M_PI / 2, 1e-6);
+  writeTumTrajectory(d / "u.txt", t);
+  const Trajectory u = readTumTrajectory(d / "u.txt");
+  ASSERT_EQ(u.size(), 2u);
+  EXPECT_NEAR(u[1].pose.yaw(), M_PI / 2, 1e-6);
+  EXPECT_DOUBLE_EQ(u[1].timestamp, 2.5);
+}
+
+static std::string errorOf(const std::string& content) {
+  TempDir d;
+  writeText(d / "gt.txt", content);
+  try {
+    readTumTrajectory(d / "gt.txt");
+  } catch (const InputError& e) {
+    return std::string(e.what()).substr(d.path().size() + 1);
+  }
+  return "no error";
+}
+
+TEST(Trajectory, BadInputNamesFileAndLine) {
+  EXPECT_EQ(errorOf("1 0 0 0 0 0 0 1\n2 0 0 0 0 0 1\n"),
+            "gt.txt:2: expected 8 fields, found 7");
+  EXPECT_EQ(errorOf("1 0 0 0 0 0 0 1\n2 0 0 x 0 0 0 1\n"),
+            "gt.txt:2: field 4 ('x') is not a number");
+  EXPECT_EQ(errorOf("# h\n1 0 0 0 0 0 0 0\n").rfind("gt.txt:2: quaternion", 0), 0u);
+  EXPECT_EQ(errorOf("1 0 0 0 0 0 0 2\n").rfind("gt.txt:1: quaternion", 0), 0u);
+  EXPECT_EQ(errorOf("2 0 0 0 0 0 0 1\n1 0 0 0 0 0 0 1\n"),
+            "gt.txt:2: timestamp 1 is not after the previous one");
+  EXPECT_EQ(errorOf("1 0 0 nan 0 0 0 1\n"), "gt.txt:1: non-finite value");
+  EXPECT_THROW(readTumTrajectory("/nonexistent/gt.txt"), InputError);
+}
+
+TEST(Camera, LoadsShippedTumConfigs) {
+  const auto c1 = loadCameraYaml(dynslam::test::sourceDir() + "/configs/tum_fr1.yaml");
+  EXPECT_DOUBLE_EQ(c1.fx, 517.306408);
+  EXPECT_DOUBLE_EQ(c1.dist[4], 1.163314);
+  EXPECT_DOUBLE_EQ(c1.depth_scale, 5000.0);
+  const auto c3 = loadCameraYaml(dynslam::test::sourceDir() + "/configs/tum_fr3.yaml");
+  EXPECT_DOUBLE_EQ(c3.fy, 539.2);
+  EXPECT_FALSE(c3.hasDistortion());
+}
+
+TEST(Camera, PicksConfigFromSequenceName) {
+  EXPECT_NE(cameraConfigForSequence("/d/rgbd_dataset_freiburg3_walking_xyz").find("tum_fr3.yaml"),
+            std::string::npos);
+  EXPECT_NE(cameraConfigForSequence("x/rgbd_dataset_freiburg1_rpy/").find("tum_fr1.yaml"),
+            std::string::npos);
+  EXPECT_THROW(cameraConfigForSequence("/data/my_sequence"), InputError);
+}
+
+TEST(Camera, BadConfigsAreErrorsNamingTheFile) {
+  TempDir d;
+  writeText(d / "a.yaml", "camera:\n  width: 640\n  height: 480\n  fx: 500\n");
+  try {
+    loadCameraYaml(d / "a.yaml");
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("a.yaml: missing camera.fy"), std::string::npos);
+  }
+  writeText(d / "b.yaml",
+            "camera:\n  width: 640\n  height: 480\n  fx: -1\n  fy: 500\n  cx: 320\n  cy: 240\n"
+            "  depth_scale: 5000\n");
+  EXPECT_THROW(loadCameraYaml(d / "b.yaml"), InputError);
+  writeText(d / "c.yaml", "camera: [1, 2\n");
+  EXPECT_THROW(loadCameraYaml(d / "c.yaml"), InputError);
+  EXPECT_THROW(loadCameraYaml(d / "missing.yaml"), InputError);
+}

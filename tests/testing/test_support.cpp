@@ -1,0 +1,83 @@
+#include "testing/test_support.h"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <array>
+#include <atomic>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+
+namespace dynslam::test {
+namespace fs = std::filesystem;
+
+std::string sourceDir() { return DYNSLAM_SOURCE_DIR; }
+
+std::string sharedDir() {
+  if (const char* env = std::getenv("DYNSLAM_SHARED_DIR"); env && *env) return env;
+  return fs::weakly_canonical(fs::path(DYNSLAM_SOURCE_DIR) / ".." / "shared").string();
+}
+
+std::string rpyDir() { return sharedDir() + "/data/tum/rgbd_dataset_freiburg1_rpy"; }
+
+std::string dynslamBinary() {
+  const char* env = std::getenv("DYNSLAM_BINARY_DIR");
+  const std::string dir = (env && *env) ? env : DYNSLAM_DEFAULT_BINARY_DIR;
+  return dir + "/apps/dynslam";
+}
+
+TempDir::TempDir() {
+  static std::atomic<int> n{0};
+  path_ = (fs::temp_directory_path() /
+           ("dynslam_test_" + std::to_string(::getpid()) + "_" + std::to_string(n++)))
+              .string();
+  fs::remove_all(path_);
+  fs::create_directories(path_);
+}
+
+TempDir::~TempDir() {
+  std::error_code ec;
+  fs::remove_all(path_, ec);
+}
+
+static std::string shellQuote(const std::string& s) {
+  std::string o = "'";
+  for (char c : s) {
+    if (c == '\'') o += "'\\''";
+    else o += c;
+  }
+  return o + "'";
+}
+
+CommandResult runDynslam(const std::vector<std::string>& args) {
+  std::string cmd = shellQuote(dynslamBinary());
+  for (const auto& a : args) cmd += " " + shellQuote(a);
+  cmd += " 2>&1 </dev/null";
+  CommandResult r;
+  FILE* p = ::popen(cmd.c_str(), "r");
+  if (!p) return r;
+  std::array<char, 4096> buf;
+  std::size_t k;
+  while ((k = std::fread(buf.data(), 1, buf.size(), p)) > 0) r.output.append(buf.data(), k);
+  const int status = ::pclose(p);
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+void writeText(const std::string& path, const std::string& content) {
+  fs::create_directories(fs::path(path).parent_path());
+  std::ofstream(path) << content;
+}
+
+std::vector<std::string> listFiles(const std::string& dir) {
+  std::vector<std::string> v;
+  for (const auto& e : fs::directory_iterator(dir))
+    if (e.is_regular_file()) v.push_back(e.path().filename().string());
+  std::sort(v.begin(), v.end());
+  return v;
+}
+
+}  // namespace dynslam::test

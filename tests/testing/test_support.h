@@ -1,0 +1,45 @@
+#pragma once
+// Test helpers: where the shared data lives, scratch folders that clean up
+// after themselves, and running the real `dynslam` binary for CLI tests.
+#include <string>
+#include <vector>
+
+namespace dynslam::test {
+
+/// ../shared next to the repository, or $DYNSLAM_SHARED_DIR. Tests that need
+/// data fail (not skip) when it is missing: CI always has it.
+std::string sharedDir();
+/// ../shared/data/tum/rgbd_dataset_freiburg1_rpy
+std::string rpyDir();
+/// The repository root (for configs/).
+std::string sourceDir();
+/// Path of the built `dynslam` executable.
+std::string dynslamBinary();
+
+/// A fresh empty directory under the system temp dir, removed on destruction.
+class TempDir {
+ public:
+  TempDir();
+  ~TempDir();
+  TempDir(const TempDir&) = delete;
+  TempDir& operator=(const TempDir&) = delete;
+  const std::string& path() const { return path_; }
+  std::string operator/(const std::string& name) const { return path_ + "/" + name; }
+
+ private:
+  std::string path_;
+};
+
+struct CommandResult {
+  int exit_code = -1;
+  std::string output;  ///< stdout and stderr together
+};
+/// Runs `dynslam ARGS...` (shell-quoted) and captures its output.
+CommandResult runDynslam(const std::vector<std::string>& args);
+
+/// Writes a text file (creating parent folders).
+void writeText(const std::string& path, const std::string& content);
+/// Lists regular files directly in `dir` (names only, sorted).
+std::vector<std::string> listFiles(const std::string& dir);
+
+}  // namespace dynslam::test
