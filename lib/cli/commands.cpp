@@ -16,6 +16,9 @@ const std::vector<Subcommand>& subcommands() {
        runMain},
       {"eval", "ATE / RPE / coverage of an estimated trajectory against groundtruth",
        evalMain},
+      {"export", "fuse a run's static keyframes into a dense map (PLY or glTF .glb)",
+       exportMain},
+      {"render", "render an off-screen snapshot (PNG) of a map", renderMain},
   };
   return cmds;
 }

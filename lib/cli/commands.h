@@ -26,5 +26,7 @@ int dispatch(int argc, char** argv);
 int convertMain(int argc, char** argv);
 int runMain(int argc, char** argv);
 int evalMain(int argc, char** argv);
+int exportMain(int argc, char** argv);
+int renderMain(int argc, char** argv);
 
 }  // namespace dynslam::cli

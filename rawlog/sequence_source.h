@@ -1,0 +1,34 @@
+#pragma once
+// Contract of the data layer (implemented in rawlog/): TUM folders and MRPT
+// rawlogs both become a FrameSource, so `dynslam run`, `export` and `eval`
+// accept either.
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/rgbd_frame.h"
+
+namespace dynslam {
+
+/// One entry of rgb.txt / depth.txt.
+struct TumListEntry {
+  double timestamp = 0;
+  std::string file;      ///< relative to the sequence folder
+  std::size_t line = 0;  ///< 1-based line in the list file (for messages)
+};
+
+/// Reads rgb.txt / depth.txt. Throws InputError(path:line) on malformed lines,
+/// timestamps not strictly increasing, or an empty list.
+std::vector<TumListEntry> readTumList(const std::string& path);
+
+/// Timestamps (RGB) of the associated RGB-D pairs of a TUM folder, as
+/// associate.py pairs them (|dt| < 0.02 s). Cheap: reads only the lists.
+std::vector<double> tumPairTimestamps(const std::string& sequence_dir);
+
+/// Opens a TUM folder or a .rawlog file (decided by what the path is).
+/// camera_config: camera YAML; empty = picked from the name (freiburg1/2/3),
+/// or for a rawlog, the camera parameters stored in it.
+std::unique_ptr<FrameSource> openSequence(const std::string& path,
+                                          const std::string& camera_config = "");
+
+}  // namespace dynslam
