@@ -17,3 +17,9 @@ find_package(Threads REQUIRED)
 find_package(PkgConfig REQUIRED)
 
 add_compile_definitions(DYNSLAM_VERSION="${PROJECT_VERSION}")
+
+# TCLAP (command-line parsing), shipped inside MRPT's headers.
+find_path(TCLAP_INCLUDE_DIR mrpt/3rdparty/tclap/CmdLine.h
+  PATHS /usr/include/mrpt/tclap/include /usr/local/include/mrpt/tclap/include REQUIRED)
+add_library(dynslam_tclap INTERFACE)
+target_include_directories(dynslam_tclap INTERFACE "${TCLAP_INCLUDE_DIR}")

@@ -31,4 +31,9 @@ std::vector<double> tumPairTimestamps(const std::string& sequence_dir);
 std::unique_ptr<FrameSource> openSequence(const std::string& path,
                                           const std::string& camera_config = "");
 
+/// The groundtruth that goes with a sequence: "<folder>/groundtruth.txt" for a
+/// TUM folder, the "<stem>_groundtruth.txt" sidecar written by `dynslam
+/// convert` for a rawlog. Empty if there is none (not an error).
+std::string sequenceGroundtruthPath(const std::string& path);
+
 }  // namespace dynslam

@@ -1,5 +1,7 @@
 #include "cli/commands.h"
 
+#include <mrpt/3rdparty/tclap/CmdLine.h>
+
 #include <cstdio>
 #include <cstring>
 #include <exception>
@@ -21,6 +23,16 @@ const std::vector<Subcommand>& subcommands() {
       {"render", "render an off-screen snapshot (PNG) of a map", renderMain},
   };
   return cmds;
+}
+
+bool parseArguments(TCLAP::CmdLine& cmd, int argc, char** argv, int& exit_code) {
+  if (cmd.parse(argc, argv)) return true;
+  exit_code = kUsage;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "-h" || a == "--help" || a == "--version") exit_code = kOk;
+  }
+  return false;
 }
 
 static void printUsage(std::FILE* out) {

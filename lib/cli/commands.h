@@ -4,6 +4,10 @@
 #include <string>
 #include <vector>
 
+namespace TCLAP {
+class CmdLine;
+}
+
 namespace dynslam::cli {
 
 /// Exit codes shared by all subcommands.
@@ -17,6 +21,11 @@ struct Subcommand {
 };
 
 const std::vector<Subcommand>& subcommands();
+
+/// Parses a subcommand's arguments with MRPT's TCLAP (which prints the help or
+/// the error itself). Returns true to go on; false with `exit_code` set to 0
+/// after --help/--version, or kUsage after an argument error.
+bool parseArguments(TCLAP::CmdLine& cmd, int argc, char** argv, int& exit_code);
 
 /// Runs `dynslam ARGS`: picks the subcommand, turns exceptions into a one-line
 /// "dynslam NAME: error: ..." on stderr and a non-zero exit code.

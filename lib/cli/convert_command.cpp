@@ -1,9 +1,79 @@
-#include <stdexcept>
+// `dynslam convert TUM_DIR OUT.rawlog`: see rawlog/tum_to_rawlog.h.
+#include <mrpt/3rdparty/tclap/CmdLine.h>
+
+#include <cstdio>
+#include <string>
 
 #include "cli/commands.h"
+#include "rawlog/tum_to_rawlog.h"
 
 namespace dynslam::cli {
 
-int convertMain(int, char**) { throw std::runtime_error("not implemented yet"); }
+namespace {
+/// TCLAP's output, but a parse error is one "PROG: error: ..." line + a hint,
+/// and remembered so that the exit code can tell it from --help.
+class ConvertOutput : public TCLAP::StdOutput {
+ public:
+  void failure(TCLAP::CmdLineInterface& c, TCLAP::ArgException& e) override {
+    failed = true;
+    std::string id = e.argId();  // "Argument: (--x, --name)" or blank
+    if (id.find_first_not_of(' ') == std::string::npos) id.clear();
+    std::fprintf(stderr, "%s: error: %s%s%s\nrun '%s --help' for usage\n",
+                 c.getProgramName().c_str(), e.error().c_str(), id.empty() ? "" : " - ",
+                 id.c_str(), c.getProgramName().c_str());
+  }
+  bool failed = false;
+};
+}  // namespace
+
+int convertMain(int argc, char** argv) {
+  TCLAP::CmdLine cmd(
+      "Converts a TUM RGB-D sequence folder (rgb.txt, depth.txt, rgb/, depth/, optional "
+      "groundtruth.txt) into an MRPT rawlog with one CObservation3DRangeScan per RGB-D pair "
+      "(paired like TUM's associate.py, |dt| < 0.02 s). Writes OUT.rawlog, the folder "
+      "OUT_Images/ (original RGB files and raw 16-bit depth matrices, referenced by the "
+      "rawlog) and, if the sequence has groundtruth, OUT_groundtruth.txt (TUM format). "
+      "Nothing is written unless every frame converts. Example: dynslam convert "
+      "data/rgbd_dataset_freiburg1_rpy rpy.rawlog",
+      ' ', DYNSLAM_VERSION);
+  TCLAP::UnlabeledValueArg<std::string> tum_dir(
+      "TUM_DIR", "TUM RGB-D sequence folder", true, "", "TUM_DIR", cmd);
+  TCLAP::UnlabeledValueArg<std::string> out(
+      "OUT", "output rawlog (must end in .rawlog; replaced if it exists)", true, "",
+      "OUT.rawlog", cmd);
+  TCLAP::ValueArg<std::string> config(
+      "c", "config",
+      "camera YAML (see configs/tum_fr1.yaml); default: configs/tum_frN.yaml chosen from "
+      "'freiburgN' in TUM_DIR",
+      false, "", "CAMERA.yaml", cmd);
+  TCLAP::ValueArg<int> max_frames(
+      "n", "max-frames", "convert only the first N RGB-D pairs (default: all)", false, 0, "N",
+      cmd);
+  TCLAP::ValueArg<std::string> label(
+      "", "label", "sensor label stored in each observation (default: RGBD)", false, "RGBD",
+      "LABEL", cmd);
+  TCLAP::SwitchArg quiet("q", "quiet", "no progress line and no summary", cmd);
+
+  ConvertOutput output;
+  cmd.setOutput(&output);
+  if (!cmd.parse(argc, argv)) return output.failed ? kUsage : kOk;  // error or --help
+  if (max_frames.isSet() && max_frames.getValue() < 1) {
+    std::fprintf(stderr, "%s: error: --max-frames must be at least 1\n", argv[0]);
+    return kUsage;
+  }
+
+  ConvertOptions options;
+  options.camera_config = config.getValue();
+  options.max_frames = static_cast<std::size_t>(max_frames.getValue());
+  options.sensor_label = label.getValue();
+  options.show_progress = !quiet.getValue();
+  const ConvertSummary s = convertTumToRawlog(tum_dir.getValue(), out.getValue(), options);
+  if (!quiet.getValue()) {
+    std::printf("wrote %s: %zu frames\n  images: %s\n", s.rawlog.c_str(), s.frames,
+                s.images_dir.c_str());
+    if (!s.groundtruth.empty()) std::printf("  groundtruth: %s\n", s.groundtruth.c_str());
+  }
+  return kOk;
+}
 
 }  // namespace dynslam::cli

@@ -1,9 +1,99 @@
-#include <stdexcept>
+// `dynslam export RUN_DIR -o MAP.ply|MAP.glb`: thin argument layer over
+// lib/mapexport. This file opens the input sequence (data layer), so the
+// exporter library itself never depends on rawlog/.
+#include <mrpt/3rdparty/tclap/CmdLine.h>
+
+#include <cstdio>
+#include <string>
+#include <vector>
 
 #include "cli/commands.h"
+#include "core/atomic_file.h"
+#include "mapexport/dense_map_config.h"
+#include "mapexport/map_data.h"
+#include "mapexport/run_directory.h"
+#include "rawlog/sequence_source.h"
 
 namespace dynslam::cli {
+namespace {
 
-int exportMain(int, char**) { throw std::runtime_error("not implemented yet"); }
+// MRPT's TCLAP returns false from parse() both for --help and for errors.
+class ExportOutput : public TCLAP::StdOutput {
+ public:
+  void failure(TCLAP::CmdLineInterface& c, TCLAP::ArgException& e) override {
+    failed = true;
+    TCLAP::StdOutput::failure(c, e);
+  }
+  bool failed = false;
+};
+
+constexpr const char* kDescription =
+    "Dense static map of a finished run: every keyframe of RUN_DIR/keyframes.txt (final, "
+    "loop-corrected poses) is looked up in the run's input sequence (run_info.yaml 'input:'), "
+    "its depth back-projected with the camera model (undistorted), pixels of "
+    "dynamic_masks/<t>.png (grown by --mask-margin) left out, and the union reduced with a "
+    "voxel grid and statistical outlier removal. The extension of -o picks the format: .ply "
+    "(binary, coloured points) or .glb (glTF 2.0: points, trajectory, keyframe frustums and "
+    "poses). If RUN_DIR/map_points.txt exists, the sparse map is also written as "
+    "<MAP>_sparse.ply.";
+
+}  // namespace
+
+int exportMain(int argc, char** argv) {
+  TCLAP::CmdLine cmd(kDescription, ' ', DYNSLAM_VERSION);
+  ExportOutput output;
+  cmd.setOutput(&output);
+  TCLAP::UnlabeledValueArg<std::string> run_arg(
+      "run_dir", "output folder of `dynslam run` (keyframes.txt, run_info.yaml)", true, "",
+      "RUN_DIR", cmd);
+  TCLAP::ValueArg<std::string> out_arg("o", "output", "map file to write: .ply or .glb", true,
+                                       "", "MAP", cmd);
+  TCLAP::ValueArg<double> voxel_arg("", "voxel",
+                                    "voxel grid leaf in metres (0 = keep every point); "
+                                    "default 0.01 or the config's map_export.voxel_leaf",
+                                    false, 0.01, "METRES", cmd);
+  TCLAP::ValueArg<std::string> config_arg(
+      "", "config",
+      "dynslam config YAML; its map_export: section sets the dense map parameters "
+      "(min_depth, max_depth, pixel_stride, mask_margin_px, voxel_leaf, remove_outliers, "
+      "outlier_neighbours, outlier_stddev); other sections are ignored",
+      false, "", "YAML", cmd);
+  TCLAP::ValueArg<std::string> camera_arg(
+      "", "camera", "camera YAML overriding run_info.yaml's camera_config", false, "",
+      "YAML", cmd);
+  TCLAP::ValueArg<int> stride_arg("", "stride", "use every N-th pixel row and column",
+                                  false, 1, "N", cmd);
+  TCLAP::ValueArg<int> margin_arg("", "mask-margin",
+                                  "grow dynamic masks by this many pixels (default 5)", false,
+                                  5, "PX", cmd);
+  TCLAP::SwitchArg no_outliers_arg("", "no-outlier-removal",
+                                   "skip statistical outlier removal (faster)", cmd, false);
+  if (!cmd.parse(argc, argv)) return output.failed ? kUsage : kOk;
+
+  mapFormatFromPath(out_arg.getValue());  // bad extension: fail before any work
+  DenseMapOptions options;
+  if (config_arg.isSet()) options = loadDenseMapOptions(config_arg.getValue(), options);
+  if (voxel_arg.isSet()) options.voxel_leaf = voxel_arg.getValue();
+  if (stride_arg.isSet()) options.projection.pixel_stride = stride_arg.getValue();
+  if (margin_arg.isSet()) options.projection.mask_margin_px = margin_arg.getValue();
+  if (no_outliers_arg.getValue()) options.remove_outliers = false;
+  validateDenseMapOptions(options, "command line");
+
+  const RunDirectory run = readRunDirectory(run_arg.getValue());
+  const std::string camera = camera_arg.isSet() ? camera_arg.getValue() : run.camera_config;
+  const auto source = openSequence(run.input, camera);
+  std::fprintf(stderr, "exporting %zu keyframes from %s\n", run.keyframes.size(),
+               source->description().c_str());
+  // TUM folders list their timestamps: only keyframes get decoded.
+  std::vector<double> stamps;
+  if (isDirectory(run.input)) stamps = tumPairTimestamps(run.input);
+  const ExportResult r = exportRun(run, *source, out_arg.getValue(), options,
+                                   stamps.size() == source->size() ? &stamps : nullptr);
+  std::printf("%s: %zu points (%zu back-projected from %zu keyframes, %zu after voxel grid)\n",
+              out_arg.getValue().c_str(), r.points_written, r.stats.backprojected_points,
+              r.stats.keyframes, r.stats.after_voxel);
+  if (!r.sparse_path.empty()) std::printf("%s: sparse map points\n", r.sparse_path.c_str());
+  return kOk;
+}
 
 }  // namespace dynslam::cli

@@ -1,9 +1,117 @@
-#include <stdexcept>
+// `dynslam render MAP.ply|MAP.glb -o OUT.png`: thin argument layer over
+// render/ (off-screen OSMesa snapshots of an exported map).
+#include <mrpt/3rdparty/tclap/CmdLine.h>
+
+#include <array>
+#include <cstdio>
+#include <sstream>
+#include <string>
 
 #include "cli/commands.h"
+#include "core/errors.h"
+#include "core/trajectory.h"
+#include "mapexport/map_data.h"
+#include "render/map_renderer.h"
+#include "render/snapshot_file.h"
+#include "render/view_spec.h"
 
 namespace dynslam::cli {
+namespace {
 
-int renderMain(int, char**) { throw std::runtime_error("not implemented yet"); }
+class RenderOutput : public TCLAP::StdOutput {
+ public:
+  void failure(TCLAP::CmdLineInterface& c, TCLAP::ArgException& e) override {
+    failed = true;
+    TCLAP::StdOutput::failure(c, e);
+  }
+  bool failed = false;
+};
+
+constexpr const char* kDescription =
+    "Off-screen snapshot (PNG) of a map written by `dynslam export`: coloured points, the "
+    "keyframe trajectory (red) and keyframe frustums (blue). Needs no display or GPU (Mesa "
+    "OSMesa software rendering). Named views are framed on the map (median centre, 95 % "
+    "radius, keyframes included); 'up' is estimated from the keyframes (cameras held upright) "
+    "or given with --up. Keyframes come from a .glb map or from --trajectory.";
+
+/// "a,b,c" -> three numbers; throws std::invalid_argument naming `what`.
+std::array<double, 3> parseTriple(const std::string& text, const std::string& what) {
+  std::string s = text;
+  for (char& c : s)
+    if (c == ',') c = ' ';
+  std::istringstream in(s);
+  std::array<double, 3> v{};
+  std::string rest;
+  if (!(in >> v[0] >> v[1] >> v[2]) || (in >> rest)) {
+    throw std::invalid_argument(what + ": expected three comma-separated numbers, got '" +
+                                text + "'");
+  }
+  return v;
+}
+
+}  // namespace
+
+int renderMain(int argc, char** argv) {
+  TCLAP::CmdLine cmd(kDescription, ' ', DYNSLAM_VERSION);
+  RenderOutput output;
+  cmd.setOutput(&output);
+  TCLAP::UnlabeledValueArg<std::string> map_arg("map", "map file (.ply or .glb)", true, "",
+                                                "MAP", cmd);
+  TCLAP::ValueArg<std::string> out_arg("o", "output", "PNG file to write", true, "", "OUT.png",
+                                       cmd);
+  TCLAP::ValueArg<std::string> view_arg(
+      "", "view",
+      "top (looking down, image-up = mean viewing direction), front (from behind the cameras, "
+      "25 deg above the horizon), orbit-N (front turned N degrees about up) or "
+      "pose:x,y,z,qx,qy,qz,qw (camera-to-world; +z forward, +x right, +y down)",
+      false, "top", "VIEW", cmd);
+  TCLAP::ValueArg<int> width_arg("", "width", "image width in pixels", false, 1280, "W", cmd);
+  TCLAP::ValueArg<int> height_arg("", "height", "image height in pixels", false, 960, "H", cmd);
+  TCLAP::ValueArg<float> point_arg("", "point-size", "point size in pixels", false, 2.f, "S",
+                                   cmd);
+  TCLAP::ValueArg<double> fov_arg("", "fov", "vertical field of view in degrees", false, 50.0,
+                                  "DEG", cmd);
+  TCLAP::ValueArg<std::string> traj_arg(
+      "", "trajectory",
+      "keyframe poses (TUM format, e.g. RUN_DIR/keyframes.txt) to draw, replacing those of a "
+      ".glb",
+      false, "", "FILE", cmd);
+  TCLAP::ValueArg<std::string> bg_arg("", "background", "background colour R,G,B (0-255)",
+                                      false, "255,255,255", "R,G,B", cmd);
+  TCLAP::ValueArg<std::string> up_arg(
+      "", "up", "world up direction x,y,z (default: estimated from the keyframes, else +z)",
+      false, "", "X,Y,Z", cmd);
+  TCLAP::SwitchArg no_frustums_arg("", "no-frustums", "do not draw keyframe frustums", cmd,
+                                   false);
+  TCLAP::SwitchArg no_traj_arg("", "no-trajectory", "do not draw the trajectory line", cmd,
+                               false);
+  if (!cmd.parse(argc, argv)) return output.failed ? kUsage : kOk;
+
+  RenderOptions o;
+  o.width = width_arg.getValue();
+  o.height = height_arg.getValue();
+  o.point_size = point_arg.getValue();
+  o.vertical_fov_deg = fov_arg.getValue();
+  o.draw_frustums = !no_frustums_arg.getValue();
+  o.draw_trajectory = !no_traj_arg.getValue();
+  const auto bg = parseTriple(bg_arg.getValue(), "--background");
+  for (int k = 0; k < 3; ++k) {
+    if (bg[k] < 0 || bg[k] > 255) throw std::invalid_argument("--background: values 0..255");
+    o.background[k] = static_cast<std::uint8_t>(bg[k]);
+  }
+  if (up_arg.isSet()) o.up = parseTriple(up_arg.getValue(), "--up");
+  const ViewSpec view = ViewSpec::parse(view_arg.getValue());
+
+  MapData map = readMapFile(map_arg.getValue());
+  if (traj_arg.isSet()) map.keyframes = readTumTrajectory(traj_arg.getValue());
+
+  MapRenderer renderer(o);
+  const cv::Mat image = renderer.render(map, view);
+  writePngAtomically(out_arg.getValue(), image);
+  std::printf("%s: %dx%d, %zu points, %zu keyframes, view %s\n", out_arg.getValue().c_str(),
+              image.cols, image.rows, map.points.size(), map.keyframes.size(),
+              view_arg.getValue().c_str());
+  return kOk;
+}
 
 }  // namespace dynslam::cli

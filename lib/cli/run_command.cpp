@@ -1,9 +1,56 @@
-#include <stdexcept>
+#include <mrpt/3rdparty/tclap/CmdLine.h>
+
+#include <cstdio>
 
 #include "cli/commands.h"
+#include "system/run_pipeline.h"
 
 namespace dynslam::cli {
 
-int runMain(int, char**) { throw std::runtime_error("not implemented yet"); }
+int runMain(int argc, char** argv) {
+  TCLAP::CmdLine cmd(
+      "Runs RGB-D SLAM on a TUM RGB-D folder or an MRPT rawlog and writes OUT_DIR/"
+      "trajectory.txt (every tracked frame, TUM format, camera-to-world, first frame at "
+      "identity), keyframes.txt, map_points.txt, run_info.yaml and report.json. Frames where "
+      "tracking is lost get no pose.",
+      ' ', DYNSLAM_VERSION);
+  TCLAP::UnlabeledValueArg<std::string> input("INPUT", "TUM sequence folder or .rawlog file",
+                                              true, "", "INPUT", cmd);
+  TCLAP::ValueArg<std::string> out("o", "out", "output folder (created if missing)", true, "",
+                                   "OUT_DIR", cmd);
+  TCLAP::ValueArg<std::string> config("", "config",
+                                      "SLAM parameters (default: configs/dynslam.yaml)", false,
+                                      "", "FILE", cmd);
+  TCLAP::ValueArg<std::string> camera(
+      "", "camera", "camera YAML (default: picked from the sequence name, or the rawlog's)",
+      false, "", "CAMERA.yaml", cmd);
+  std::vector<std::string> modes = {"off", "detect", "flow", "detect+flow"};
+  TCLAP::ValuesConstraint<std::string> mode_values(modes);
+  TCLAP::ValueArg<std::string> mode("", "mode", "dynamic-feature rejection mode", false, "off",
+                                    &mode_values, cmd);
+  TCLAP::ValueArg<std::size_t> max_frames("", "max-frames", "process only the first N frames",
+                                          false, 0, "N", cmd);
+  TCLAP::SwitchArg deterministic("", "deterministic",
+                                 "local mapping in the tracking thread: identical output on "
+                                 "every run (slower)",
+                                 cmd);
+  int exit_code = kOk;
+  if (!parseArguments(cmd, argc, argv, exit_code)) return exit_code;
+
+  RunOptions o;
+  o.input = input.getValue();
+  o.out_dir = out.getValue();
+  o.config_path = config.getValue();
+  o.camera_config = camera.getValue();
+  o.mode = mode.getValue();
+  o.max_frames = max_frames.getValue();
+  if (deterministic.getValue()) o.deterministic = 1;
+  const RunSummary s = runSlam(o);
+  std::printf("%zu frames, %zu tracked (%.1f %%), %zu keyframes, %zu map points, %.1f frames/s\n"
+              "results in %s\n",
+              s.frames, s.tracked, s.frames ? 100.0 * s.tracked / s.frames : 0.0, s.keyframes,
+              s.map_points, s.fps, o.out_dir.c_str());
+  return kOk;
+}
 
 }  // namespace dynslam::cli

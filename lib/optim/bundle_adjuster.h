@@ -42,15 +42,25 @@ struct BAParams {
   int iterations_second = 10; ///< after dropping outliers
   double chi2_mono = 5.991;
   double chi2_stereo = 7.815;
+  /// Ceres threads. 1 (default) keeps the result bit-for-bit reproducible and
+  /// leaves the other cores to tracking.
   int threads = 1;
+  /// Up to this many free keyframes the reduced camera system is solved dense
+  /// (DENSE_SCHUR, fastest for local BA); beyond it SPARSE_SCHUR.
+  int dense_schur_max_keyframes = 60;
 };
 
 struct BAResult {
   /// per observation: still consistent after optimisation (chi2 below threshold
   /// and point in front of the camera). The caller erases the others.
   std::vector<bool> inlier;
+  /// 0.5 * sum of Huber(chi2) over the observations in front of their camera,
+  /// before and after (the same function, so the two are comparable).
   double initial_cost = 0, final_cost = 0;
+  /// Ceres ended the last stage by a convergence test (not the iteration limit
+  /// or a failure). The solution is written back whenever it is usable.
   bool converged = false;
+  int iterations = 0;  ///< Ceres iterations over both stages (diagnostics)
 };
 
 /// Optimises problem.keyframes (non-fixed) and problem.points in place.

@@ -28,12 +28,23 @@ struct PoseOptimizerParams {
   double chi2_stereo = 7.815;  ///< 95 % of chi-square with 3 dof
   /// The Huber kernel is dropped in the last round (as in ORB-SLAM) when false.
   bool robust_last_round = false;
+  /// Below this many usable observations the pose is under-constrained (a
+  /// mono point gives 2 equations for 6 unknowns), so optimisation stops: a
+  /// smaller input returns the initial pose (inliers classified at it), and a
+  /// round that leaves fewer inliers ends the rounds with the pose so far.
+  int min_observations = 4;
+  /// A round stops early once the increment is this small (squared norm of
+  /// [rho (m), omega (rad)]); keeps the solver cheap when it has converged.
+  double min_step_sq = 1e-12;
+  /// ... or once a step lowers the cost by less than this fraction.
+  double min_relative_decrease = 1e-8;
 };
 
 struct PoseOptimizerResult {
   mrpt::poses::CPose3D pose_wc;  ///< optimised camera-to-world pose
   std::vector<bool> inlier;      ///< per observation, after the last round
   int n_inliers = 0;
+  int iterations = 0;  ///< linear solves over all rounds (diagnostics)
 };
 
 /// initial_wc: camera-to-world initial guess. Observations behind the camera

@@ -1,0 +1,74 @@
+#include "dynamic/mask_scoring.h"
+
+#include <opencv2/imgproc.hpp>
+
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+namespace dynslam {
+namespace {
+double ratio(int a, int b) {
+  return b > 0 ? double(a) / b : std::numeric_limits<double>::quiet_NaN();
+}
+}  // namespace
+
+double MaskScore::recall() const { return ratio(walker_flagged, walker_points); }
+double MaskScore::falseRejectionRate() const { return ratio(static_flagged, static_points); }
+double MaskScore::standingRejectionRate() const { return ratio(standing_flagged, standing_points); }
+
+MaskScore& MaskScore::operator+=(const MaskScore& o) {
+  walker_points += o.walker_points;
+  walker_flagged += o.walker_flagged;
+  static_points += o.static_points;
+  static_flagged += o.static_flagged;
+  standing_points += o.standing_points;
+  standing_flagged += o.standing_flagged;
+  boundary_points += o.boundary_points;
+  boundary_flagged += o.boundary_flagged;
+  return *this;
+}
+
+MaskScore scoreKeypoints(const std::vector<cv::Point2f>& points,
+                         const std::vector<uint8_t>& dynamic_flags, const cv::Mat& gt_mask,
+                         int margin_px) {
+  if (points.size() != dynamic_flags.size())
+    throw std::invalid_argument("scoreKeypoints: points and flags differ in size");
+  CV_Assert(gt_mask.type() == CV_8UC1);
+  // Walker core: eroded walker pixels. Standing core: eroded standing pixels.
+  // Static: outside the dilated union of all people.
+  const cv::Mat walker = (gt_mask > 0) & (gt_mask < 128);
+  const cv::Mat standing = gt_mask >= 128;
+  const cv::Mat person = gt_mask > 0;
+  cv::Mat walker_core = walker, standing_core = standing, person_zone = person;
+  if (margin_px > 0) {
+    // A (2m+1)^2 square: every pixel within m px (Chebyshev) of the outline.
+    const cv::Mat k =
+        cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * margin_px + 1, 2 * margin_px + 1));
+    cv::erode(walker, walker_core, k, cv::Point(-1, -1), 1, cv::BORDER_CONSTANT, cv::Scalar(0));
+    cv::erode(standing, standing_core, k, cv::Point(-1, -1), 1, cv::BORDER_CONSTANT, cv::Scalar(0));
+    cv::dilate(person, person_zone, k);
+  }
+  MaskScore s;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const int x = int(std::lround(points[i].x)), y = int(std::lround(points[i].y));
+    if (x < 0 || y < 0 || x >= gt_mask.cols || y >= gt_mask.rows) continue;
+    const bool f = dynamic_flags[i] != 0;
+    if (walker_core.at<uint8_t>(y, x)) {
+      ++s.walker_points;
+      s.walker_flagged += f;
+    } else if (standing_core.at<uint8_t>(y, x)) {
+      ++s.standing_points;
+      s.standing_flagged += f;
+    } else if (!person_zone.at<uint8_t>(y, x)) {
+      ++s.static_points;
+      s.static_flagged += f;
+    } else {
+      ++s.boundary_points;
+      s.boundary_flagged += f;
+    }
+  }
+  return s;
+}
+
+}  // namespace dynslam

@@ -1,0 +1,418 @@
+#include "dynamic/motion_check.h"
+
+#include <opencv2/calib3d.hpp>
+#include <opencv2/imgproc.hpp>
+#include <opencv2/video/tracking.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace dynslam {
+namespace {
+
+constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
+
+double msSince(int64 t0) {
+  return double(cv::getTickCount() - t0) * 1000.0 / cv::getTickFrequency();
+}
+
+bool inDynamicBox(const cv::Point2f& p, const std::vector<Detection>& boxes) {
+  for (const auto& b : boxes)
+    if (b.dynamic_class && b.box.contains(p)) return true;
+  return false;
+}
+
+}  // namespace
+
+GeometryResult classifyMotion(const Correspondences& c, const cv::Matx33d& K,
+                              const MotionCheckParams& params) {
+  const std::size_t n = c.prev.size();
+  CV_Assert(c.cur.size() == n);
+  CV_Assert(c.prev_xyz.empty() || c.prev_xyz.size() == n);
+  CV_Assert(c.cur_depth.empty() || c.cur_depth.size() == n);
+  CV_Assert(c.in_dynamic_box.empty() || c.in_dynamic_box.size() == n);
+  GeometryResult r;
+  r.dynamic.assign(n, 0);
+  r.epipolar_error.assign(n, kNaN);
+  r.reprojection_error.assign(n, kNaN);
+  r.depth_error.assign(n, kNaN);
+
+  // Points the camera motion is fitted on: outside dynamic boxes, or all.
+  std::vector<int> fit;
+  for (std::size_t i = 0; i < n; ++i)
+    if (c.in_dynamic_box.empty() || !c.in_dynamic_box[i]) fit.push_back(int(i));
+  if (int(fit.size()) < params.min_static_points) {
+    fit.resize(n);
+    for (std::size_t i = 0; i < n; ++i) fit[i] = int(i);
+  }
+  r.fit_points = int(fit.size());
+
+  // --- Epipolar test.
+  if (fit.size() >= 8) {
+    std::vector<cv::Point2f> a, b;
+    a.reserve(fit.size());
+    b.reserve(fit.size());
+    for (int i : fit) {
+      a.push_back(c.prev[i]);
+      b.push_back(c.cur[i]);
+    }
+    cv::Mat F = cv::findFundamentalMat(a, b, cv::FM_RANSAC, params.epipolar_threshold_px,
+                                       params.ransac_confidence);
+    if (F.rows == 3 && F.cols == 3) {
+      r.has_fundamental = true;
+      r.F = cv::Matx33d(F);
+      for (std::size_t i = 0; i < n; ++i) {
+        const cv::Vec3d l = r.F * cv::Vec3d(c.prev[i].x, c.prev[i].y, 1.0);
+        const double norm = std::sqrt(l[0] * l[0] + l[1] * l[1]);
+        if (norm > 0)
+          r.epipolar_error[i] =
+              float(std::abs(l[0] * c.cur[i].x + l[1] * c.cur[i].y + l[2]) / norm);
+      }
+    }
+  }
+
+  // --- Depth-backed reprojection test (catches motion along epipolar lines).
+  if (!c.prev_xyz.empty()) {
+    std::vector<cv::Point3f> obj;
+    std::vector<cv::Point2f> img;
+    for (int i : fit)
+      if (c.prev_xyz[i].z > 0) {
+        obj.push_back(c.prev_xyz[i]);
+        img.push_back(c.cur[i]);
+      }
+    r.pose_candidates = int(obj.size());
+    if (obj.size() >= 6) {
+      cv::Mat rvec, tvec;
+      std::vector<int> inliers;
+      const bool ok = cv::solvePnPRansac(obj, img, K, cv::noArray(), rvec, tvec, false,
+                                         params.pnp_iterations, params.pnp_inlier_px,
+                                         params.ransac_confidence, inliers, cv::SOLVEPNP_AP3P);
+      if (ok && inliers.size() >= 6 && inliers.size() >= params.min_pnp_inlier_ratio * obj.size()) {
+        std::vector<cv::Point3f> oi;
+        std::vector<cv::Point2f> ii;
+        for (int k : inliers) {
+          oi.push_back(obj[k]);
+          ii.push_back(img[k]);
+        }
+        cv::solvePnPRefineLM(oi, ii, K, cv::noArray(), rvec, tvec);
+        cv::Mat Rm;
+        cv::Rodrigues(rvec, Rm);
+        r.R = cv::Matx33d(Rm);
+        r.t = cv::Vec3d(tvec.at<double>(0), tvec.at<double>(1), tvec.at<double>(2));
+        r.has_pose = true;
+        r.pose_inliers = int(inliers.size());
+      }
+    }
+    if (r.has_pose) {
+      for (std::size_t i = 0; i < n; ++i) {
+        const cv::Point3f& X = c.prev_xyz[i];
+        if (X.z <= 0) continue;
+        const cv::Vec3d Xc = r.R * cv::Vec3d(X.x, X.y, X.z) + r.t;
+        if (Xc[2] <= 1e-6) {
+          r.reprojection_error[i] = std::numeric_limits<float>::infinity();
+          continue;
+        }
+        const double u = K(0, 0) * Xc[0] / Xc[2] + K(0, 2);
+        const double v = K(1, 1) * Xc[1] / Xc[2] + K(1, 2);
+        r.reprojection_error[i] = float(std::hypot(u - c.cur[i].x, v - c.cur[i].y));
+        if (!c.cur_depth.empty() && c.cur_depth[i] > 0)
+          r.depth_error[i] = float(std::abs(c.cur_depth[i] - Xc[2]) / Xc[2]);
+      }
+    }
+  }
+
+  // Per-frame thresholds: at least the configured ones, but grown with the
+  // robust residual scale of the fit set, because blur and the rolling
+  // shutter of fast rotations (fr1_rpy) inflate every residual of a frame.
+  r.epipolar_threshold = params.epipolar_threshold_px;
+  r.reprojection_threshold = params.reprojection_threshold_px;
+  if (params.adaptive_threshold_k > 0) {
+    auto median = [&](const std::vector<float>& e) {
+      std::vector<float> v;
+      v.reserve(fit.size());
+      for (int i : fit)
+        if (std::isfinite(e[i])) v.push_back(e[i]);
+      if (v.empty()) return 0.f;
+      std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+      return v[v.size() / 2];
+    };
+    // |N(0, s)| has median 0.6745 s; a 2D residual (Rayleigh) 1.1774 s.
+    r.epipolar_threshold = std::max(
+        r.epipolar_threshold, params.adaptive_threshold_k * median(r.epipolar_error) / 0.6745f);
+    r.reprojection_threshold =
+        std::max(r.reprojection_threshold,
+                 params.adaptive_threshold_k * median(r.reprojection_error) / 1.1774f);
+  }
+
+  // A pose that explains only a small share of the presumably static points
+  // means the frame is blurred / rolling-shutter-skewed beyond the rigid
+  // model: its per-point verdicts are mostly noise.
+  r.reliable = r.has_pose ? r.pose_inliers >= params.reliable_inlier_ratio * r.pose_candidates
+                          : r.has_fundamental;
+  if (!r.reliable && params.unreliable_clears_flags) return r;
+
+  for (std::size_t i = 0; i < n; ++i) {
+    // NaN compares false: an unavailable test never flags a point.
+    // The reprojection error is the full 2D residual (it contains the
+    // epipolar distance), so where it exists the epipolar test only adds
+    // noise; it is the fallback for points without depth or pose.
+    const bool has_rep = !std::isnan(r.reprojection_error[i]);
+    const bool epi =
+        (!has_rep || params.always_use_epipolar) && r.epipolar_error[i] > r.epipolar_threshold;
+    const bool rep = has_rep && r.reprojection_error[i] > r.reprojection_threshold;
+    const bool dep = params.depth_tolerance > 0 && r.depth_error[i] > params.depth_tolerance;
+    r.dynamic[i] = (epi || rep || dep) ? 1 : 0;
+  }
+  return r;
+}
+
+MotionConsistencyCheck::MotionConsistencyCheck(const MotionCheckParams& params)
+    : params_(params), grower_(params.grow) {}
+
+MotionFrame MotionConsistencyCheck::makeFrame(const cv::Mat& image, const cv::Mat& depth) const {
+  MotionFrame f;
+  if (image.channels() == 3)
+    cv::cvtColor(image, f.gray, cv::COLOR_BGR2GRAY);
+  else
+    f.gray = image;
+  CV_Assert(f.gray.type() == CV_8UC1);
+  CV_Assert(depth.empty() || (depth.type() == CV_16UC1 && depth.size() == f.gray.size()));
+  f.depth = depth;
+  cv::buildOpticalFlowPyramid(f.gray, f.pyramid, cv::Size(params_.lk_window, params_.lk_window),
+                              params_.lk_max_level, true);
+  return f;
+}
+
+namespace {
+
+// Back-projects pixel p of `depth` (raw units), whose undistorted position is
+// `undist`, into the camera frame; z = 0
+// when there is no depth or p sits on a depth edge (3x3 spread too large).
+cv::Point3f backProject(const cv::Mat& depth, const cv::Point2f& p, const cv::Point2f& undist,
+                        const PinholeCamera& cam, float edge_ratio) {
+  const int x = int(std::lround(p.x)), y = int(std::lround(p.y));
+  if (x < 1 || y < 1 || x >= depth.cols - 1 || y >= depth.rows - 1) return {0, 0, 0};
+  const uint16_t z = depth.at<uint16_t>(y, x);
+  if (!z) return {0, 0, 0};
+  uint16_t lo = z, hi = z;
+  for (int dy = -1; dy <= 1; ++dy) {
+    const uint16_t* row = depth.ptr<uint16_t>(y + dy);
+    for (int dx = -1; dx <= 1; ++dx) {
+      const uint16_t v = row[x + dx];
+      if (!v) return {0, 0, 0};
+      lo = std::min(lo, v);
+      hi = std::max(hi, v);
+    }
+  }
+  if (hi - lo > edge_ratio * z) return {0, 0, 0};
+  const float Z = float(z / cam.depth_scale);
+  return {float((undist.x - cam.cx) * Z / cam.fx), float((undist.y - cam.cy) * Z / cam.fy), Z};
+}
+
+}  // namespace
+
+Correspondences buildCorrespondences(const std::vector<cv::Point2f>& prev_points,
+                                     const std::vector<cv::Point2f>& cur_points,
+                                     const cv::Mat& prev_depth, const cv::Mat& cur_depth,
+                                     const PinholeCamera& camera,
+                                     const std::vector<Detection>& boxes, float depth_edge_ratio) {
+  CV_Assert(prev_points.size() == cur_points.size());
+  const std::size_t m = prev_points.size();
+  Correspondences c;
+  c.prev = prev_points;
+  c.cur = cur_points;
+  c.in_dynamic_box.resize(m);
+  for (std::size_t k = 0; k < m; ++k)
+    c.in_dynamic_box[k] = inDynamicBox(prev_points[k], boxes) || inDynamicBox(cur_points[k], boxes);
+  // Geometry runs on undistorted pixels (TUM fr1/fr2 images are distorted);
+  // depth is still read at the raw pixel it was registered to.
+  if (camera.hasDistortion() && m > 0) {
+    const cv::Matx33d K(camera.fx, 0, camera.cx, 0, camera.fy, camera.cy, 0, 0, 1);
+    const cv::Mat dist(1, 5, CV_64F, const_cast<double*>(camera.dist.data()));
+    cv::undistortPoints(prev_points, c.prev, K, dist, cv::noArray(), K);
+    cv::undistortPoints(cur_points, c.cur, K, dist, cv::noArray(), K);
+  }
+  if (!prev_depth.empty() && !cur_depth.empty()) {
+    CV_Assert(prev_depth.type() == CV_16UC1 && cur_depth.type() == CV_16UC1);
+    c.prev_xyz.resize(m);
+    c.cur_depth.resize(m);
+    for (std::size_t k = 0; k < m; ++k) {
+      c.prev_xyz[k] = backProject(prev_depth, prev_points[k], c.prev[k], camera, depth_edge_ratio);
+      c.cur_depth[k] = backProject(cur_depth, cur_points[k], c.cur[k], camera, depth_edge_ratio).z;
+    }
+  }
+  return c;
+}
+
+MotionResult MotionConsistencyCheck::check(const MotionFrame& prev, const MotionFrame& cur,
+                                           const std::vector<cv::Point2f>& prev_points,
+                                           const PinholeCamera& camera,
+                                           const std::vector<Detection>& boxes) {
+  const std::size_t n = prev_points.size();
+  std::vector<cv::Point2f> cur_points(n, cv::Point2f(0, 0));
+  std::vector<uint8_t> tracked(n, 0);
+  if (n == 0) {
+    MotionResult res;
+    res.mask = cv::Mat(cur.gray.size(), CV_8U, cv::Scalar(0));
+    return res;
+  }
+
+  // --- LK forward, then backward from the tracked positions.
+  const int64 t0 = cv::getTickCount();
+  const cv::Size win(params_.lk_window, params_.lk_window);
+  const cv::TermCriteria crit(cv::TermCriteria::COUNT | cv::TermCriteria::EPS,
+                              params_.lk_iterations, 0.01);
+  std::vector<uint8_t> st_f, st_b;
+  std::vector<float> err;
+  cv::calcOpticalFlowPyrLK(prev.pyramid, cur.pyramid, prev_points, cur_points, st_f, err, win,
+                           params_.lk_max_level, crit);
+  std::vector<int> fwd_ok;
+  std::vector<cv::Point2f> fwd_pts, back_pts;
+  for (std::size_t i = 0; i < n; ++i)
+    if (st_f[i]) {
+      fwd_ok.push_back(int(i));
+      fwd_pts.push_back(cur_points[i]);
+      back_pts.push_back(prev_points[i]);  // initial guess: no motion back
+    }
+  if (!fwd_ok.empty())
+    cv::calcOpticalFlowPyrLK(cur.pyramid, prev.pyramid, fwd_pts, back_pts, st_b, err, win,
+                             params_.lk_max_level, crit, cv::OPTFLOW_USE_INITIAL_FLOW);
+  const cv::Rect2f frame(0, 0, float(cur.gray.cols), float(cur.gray.rows));
+  const float fb2 = params_.fb_max_error * params_.fb_max_error;
+  for (std::size_t k = 0; k < fwd_ok.size(); ++k) {
+    const int i = fwd_ok[k];
+    const cv::Point2f d = back_pts[k] - prev_points[i];
+    if (st_b[k] && d.dot(d) < fb2 && frame.contains(cur_points[i])) tracked[i] = 1;
+  }
+  const double ms_track = msSince(t0);
+
+  MotionResult res = classify(prev_points, cur_points, tracked, prev.depth, cur.depth, camera,
+                              boxes, cur.gray.size());
+  res.ms_track = ms_track;
+  return res;
+}
+
+MotionResult MotionConsistencyCheck::classify(
+    const std::vector<cv::Point2f>& prev_points, const std::vector<cv::Point2f>& cur_points,
+    const std::vector<uint8_t>& valid, const cv::Mat& prev_depth, const cv::Mat& cur_depth,
+    const PinholeCamera& camera, const std::vector<Detection>& boxes, cv::Size image_size) {
+  const std::size_t n = prev_points.size();
+  CV_Assert(cur_points.size() == n && (valid.empty() || valid.size() == n));
+  if (image_size.empty())
+    image_size = cur_depth.empty() ? cv::Size(camera.width, camera.height) : cur_depth.size();
+  MotionResult res;
+  res.cur_points = cur_points;
+  res.tracked = valid.empty() ? std::vector<uint8_t>(n, 1) : valid;
+  res.dynamic.assign(n, 0);
+  res.mask = cv::Mat(image_size, CV_8U, cv::Scalar(0));
+  for (std::size_t i = 0; i < n; ++i)
+    if (res.tracked[i]) res.tracked_index.push_back(int(i));
+
+  // --- Geometry.
+  int64 t0 = cv::getTickCount();
+  const std::size_t m = res.tracked_index.size();
+  std::vector<cv::Point2f> raw_prev(m), raw_cur(m);
+  for (std::size_t k = 0; k < m; ++k) {
+    raw_prev[k] = prev_points[res.tracked_index[k]];
+    raw_cur[k] = cur_points[res.tracked_index[k]];
+  }
+  const Correspondences c = buildCorrespondences(raw_prev, raw_cur, prev_depth, cur_depth, camera,
+                                                 boxes, params_.depth_edge_ratio);
+  const cv::Matx33d K(camera.fx, 0, camera.cx, 0, camera.fy, camera.cy, 0, 0, 1);
+  res.geometry = classifyMotion(c, K, params_);
+  std::vector<cv::Point2f> seeds;
+  std::vector<cv::Rect> limits;
+  for (std::size_t k = 0; k < m; ++k) {
+    if (!res.geometry.dynamic[k]) continue;
+    res.dynamic[res.tracked_index[k]] = 1;
+    seeds.push_back(raw_cur[k]);
+    cv::Rect lim;
+    if (params_.grow_within_boxes)
+      for (const auto& b : boxes)
+        if (b.dynamic_class && b.box.contains(raw_cur[k])) {
+          const float px = 0.1f * b.box.width, py = 0.1f * b.box.height;
+          lim = cv::Rect(
+              cv::Point(int(b.box.x - px), int(b.box.y - py)),
+              cv::Point(int(b.box.x + b.box.width + px) + 1, int(b.box.y + b.box.height + py) + 1));
+          break;
+        }
+    limits.push_back(lim);
+  }
+  res.ms_geometry = msSince(t0);
+
+  // --- Grow the moving points into their objects (on a grid `ds` times
+  // coarser than the image: the mask is for culling, 2 px steps are plenty).
+  t0 = cv::getTickCount();
+  if (!seeds.empty() && !cur_depth.empty()) {
+    const int ds = std::max(1, params_.mask_downsample);
+    const cv::Size grid(image_size.width / ds, image_size.height / ds);
+    // Full-resolution pixel X lies in grid cell floor(X / ds).
+    auto toGrid = [ds](const cv::Point2f& p) {
+      return cv::Point2f((p.x + 0.5f) / ds - 0.5f, (p.y + 0.5f) / ds - 0.5f);
+    };
+    cv::Mat depth_grid = cur_depth;
+    if (ds > 1) {
+      cv::resize(cur_depth, depth_grid, grid, 0, 0, cv::INTER_NEAREST);
+      for (auto& p : seeds) p = toGrid(p);
+      for (auto& r : limits)
+        if (!r.empty())
+          r = cv::Rect(r.x / ds, r.y / ds, (r.width + ds - 1) / ds, (r.height + ds - 1) / ds);
+    }
+    const int regions = grower_.growRegions(depth_grid, camera.depth_scale, seeds, &limits);
+    // Vote per region: a moving object has a good share of its tracked
+    // points flagged; a static surface under a few noisy outliers does not.
+    std::vector<int> dyn(regions + 1, 0), total(regions + 1, 0);
+    std::vector<int> label_of(m, 0);
+    std::vector<cv::Point2f> grid_pts(m);
+    for (std::size_t k = 0; k < m; ++k) {
+      grid_pts[k] = toGrid(raw_cur[k]);
+      const int l = grower_.labelAt(grid_pts[k]);
+      label_of[k] = l;
+      if (!l) continue;
+      ++total[l];
+      dyn[l] += res.geometry.dynamic[k];
+    }
+    std::vector<uint8_t> keep(regions + 1, 0);
+    for (int l = 1; l <= regions; ++l)
+      keep[l] =
+          dyn[l] >= params_.grow.min_seeds && dyn[l] >= params_.region_min_dynamic_ratio * total[l];
+    cv::Mat mask = grower_.maskOf(keep);
+    if (params_.carve_static && cv::countNonZero(mask) > 0) {
+      // Depth regions leak where a person touches furniture at the same
+      // depth; static tracked points inside the region say where the
+      // furniture is. Keep only pixels closer to a moving point than to such
+      // a static one.
+      cv::Mat to_dyn(mask.size(), CV_8U, cv::Scalar(255)), to_static = to_dyn.clone();
+      const cv::Rect img(0, 0, mask.cols, mask.rows);
+      bool any_static = false;
+      for (std::size_t k = 0; k < m; ++k) {
+        const cv::Point q(cvRound(grid_pts[k].x), cvRound(grid_pts[k].y));
+        if (!img.contains(q)) continue;
+        if (res.geometry.dynamic[k]) {
+          to_dyn.at<uint8_t>(q) = 0;
+        } else if (keep[label_of[k]]) {  // static points outside regions cut nothing
+          to_static.at<uint8_t>(q) = 0;
+          any_static = true;
+        }
+      }
+      if (any_static) {
+        cv::Mat d_dyn, d_static;
+        cv::distanceTransform(to_dyn, d_dyn, cv::DIST_L2, 3);
+        cv::distanceTransform(to_static, d_static, cv::DIST_L2, 3);
+        mask.setTo(0, d_dyn > d_static);
+      }
+    }
+    if (ds > 1)
+      cv::resize(mask, res.mask, image_size, 0, 0, cv::INTER_NEAREST);
+    else
+      res.mask = mask;
+    if (params_.region_fills_flags)
+      for (std::size_t k = 0; k < m; ++k)
+        if (keep[label_of[k]]) res.dynamic[res.tracked_index[k]] = 1;
+  }
+  res.ms_mask = msSince(t0);
+  return res;
+}
+
+}  // namespace dynslam

@@ -1,0 +1,43 @@
+#pragma once
+// The immutable per-image feature data (keypoints, descriptors, depths,
+// dynamic flags and a spatial grid over them). A Frame builds it once; the
+// KeyFrame made from that frame shares the same object instead of copying it.
+#include <opencv2/core.hpp>
+
+#include <Eigen/Core>
+#include <memory>
+#include <vector>
+
+#include "map/frame_context.h"
+
+namespace dynslam {
+
+struct FeatureSet {
+  std::shared_ptr<const FrameContext> ctx;
+  std::vector<cv::KeyPoint> keys;     ///< as detected (distorted image)
+  std::vector<cv::KeyPoint> keys_un;  ///< undistorted (tracking uses these)
+  cv::Mat descriptors;                ///< N x 32, CV_8UC1
+  std::vector<float> depth;           ///< metres; <= 0: no valid depth
+  std::vector<float> ur;              ///< virtual right u; < 0: no depth
+  std::vector<uint8_t> dynamic;       ///< 1: on a moving object, ignored by SLAM
+  std::vector<cv::Vec3b> colors;      ///< BGR at each keypoint (for map exports)
+  /// Keypoint indices per grid cell (static keypoints only).
+  std::vector<std::vector<int>> grid;
+
+  std::size_t size() const { return keys.size(); }
+  const uint8_t* descriptor(std::size_t i) const { return descriptors.ptr<uint8_t>(static_cast<int>(i)); }
+  /// Static keypoints within radius r (square window) of (x, y) whose level
+  /// lies in [min_level, max_level] (-1: no bound).
+  std::vector<int> featuresInArea(float x, float y, float r, int min_level = -1,
+                                  int max_level = -1) const;
+  /// Camera-frame 3D point of keypoint i from its depth (requires depth > 0).
+  Eigen::Vector3d unprojectCamera(std::size_t i) const;
+
+  /// Undistorts keys into keys_un, reads depth at each keypoint, sets ur and
+  /// builds the grid (dynamic keypoints are left out of the grid, so no
+  /// matcher ever sees them).
+  /// rgb (BGR, optional) gives the keypoint colours.
+  void finalize(const cv::Mat& depth_raw, const cv::Mat& rgb = cv::Mat());
+};
+
+}  // namespace dynslam

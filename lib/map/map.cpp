@@ -1,0 +1,44 @@
+#include "map/map.h"
+
+namespace dynslam {
+
+KeyFrame* Map::createKeyFrame(long frame_id, double timestamp, std::size_t frame_index,
+                              std::shared_ptr<const FeatureSet> features,
+                              const CameraPose& pose) {
+  kfs_.push_back(std::make_unique<KeyFrame>(next_kf_id_++, frame_id, timestamp,
+                                            frame_index, std::move(features), pose));
+  return kfs_.back().get();
+}
+
+MapPoint* Map::createMapPoint(const Eigen::Vector3d& pos, KeyFrame* ref) {
+  points_.push_back(std::make_unique<MapPoint>(next_point_id_++, pos, ref));
+  return points_.back().get();
+}
+
+std::vector<KeyFrame*> Map::keyFrames() const {
+  std::vector<KeyFrame*> v;
+  for (const auto& k : kfs_)
+    if (!k->bad) v.push_back(k.get());
+  return v;
+}
+
+std::vector<MapPoint*> Map::mapPoints() const {
+  std::vector<MapPoint*> v;
+  for (const auto& p : points_)
+    if (!p->bad) v.push_back(p.get());
+  return v;
+}
+
+std::size_t Map::keyFrameCount() const {
+  std::size_t n = 0;
+  for (const auto& k : kfs_) n += !k->bad;
+  return n;
+}
+
+std::size_t Map::mapPointCount() const {
+  std::size_t n = 0;
+  for (const auto& p : points_) n += !p->bad;
+  return n;
+}
+
+}  // namespace dynslam

@@ -1,0 +1,57 @@
+#pragma once
+// Dense static map: fuses keyframes (image + final pose + dynamic mask) into
+// one coloured world-frame cloud. Poses are passed in at export time, so the
+// map reflects loop-closure-corrected keyframe poses, not tracking-time ones.
+//
+// Memory stays bounded for long runs: every keyframe is voxel-downsampled as
+// it is added and the accumulated cloud is re-voxelised whenever it grows
+// past `compact_threshold` points; build() does the final voxel pass and the
+// statistical outlier removal.
+#include <cstddef>
+
+#include "mapexport/depth_backprojector.h"
+
+namespace dynslam {
+
+struct DenseMapOptions {
+  BackProjectionOptions projection;
+  double voxel_leaf = 0.01;  ///< metres; <= 0 keeps every point
+  bool remove_outliers = true;
+  int outlier_neighbours = 10;
+  double outlier_stddev = 2.0;
+  /// Re-voxelise the accumulated cloud when it exceeds this many points.
+  std::size_t compact_threshold = 4'000'000;
+};
+
+struct DenseMapStats {
+  std::size_t keyframes = 0;
+  std::size_t backprojected_points = 0;  ///< before any filtering
+  std::size_t after_voxel = 0;
+  std::size_t after_outliers = 0;
+};
+
+class DenseMapBuilder {
+ public:
+  DenseMapBuilder(const PinholeCamera& camera, DenseMapOptions options = {});
+
+  /// pose_wc: camera-to-world. dynamic_mask: empty or CV_8UC1, 255 = dynamic.
+  void addKeyframe(const RGBDFrame& frame, const mrpt::poses::CPose3D& pose_wc,
+                   const cv::Mat& dynamic_mask = cv::Mat());
+
+  /// Final voxel grid and outlier removal. The builder can keep accepting
+  /// keyframes afterwards (build() does not consume the accumulation).
+  ColoredCloud build();
+
+  const DenseMapStats& stats() const { return stats_; }
+  const DenseMapOptions& options() const { return options_; }
+
+ private:
+  DenseMapOptions options_;
+  DepthBackProjector projector_;
+  ColoredCloud accumulated_;
+  ColoredCloud scratch_;
+  std::size_t compacted_size_ = 0;
+  DenseMapStats stats_;
+};
+
+}  // namespace dynslam

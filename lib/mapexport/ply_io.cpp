@@ -1,0 +1,95 @@
+#include "mapexport/ply_io.h"
+
+#include <pcl/console/print.h>
+#include <pcl/io/ply_io.h>
+#include <pcl/point_cloud.h>
+#include <pcl/point_types.h>
+
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+#include "core/atomic_file.h"
+#include "core/errors.h"
+
+namespace dynslam {
+
+void writePlyBinary(const std::string& path, const ColoredCloud& cloud) {
+  pcl::PointCloud<pcl::PointXYZRGB> pc;
+  pc.resize(cloud.size());
+  for (std::size_t i = 0; i < cloud.size(); ++i) {
+    auto& q = pc[i];
+    q.x = cloud[i].x;
+    q.y = cloud[i].y;
+    q.z = cloud[i].z;
+    q.r = cloud[i].r;
+    q.g = cloud[i].g;
+    q.b = cloud[i].b;
+  }
+  pc.width = static_cast<std::uint32_t>(cloud.size());
+  pc.height = 1;
+  pc.is_dense = true;
+  AtomicPath out(path);
+  // PCL prints its own message and returns < 0 (or throws) on failure.
+  int rc = -1;
+  try {
+    rc = pcl::io::savePLYFileBinary(out.tmp(), pc);
+  } catch (const std::exception& e) {
+    throw std::runtime_error(path + ": cannot write PLY (" + e.what() + ")");
+  }
+  if (rc < 0) throw std::runtime_error(path + ": cannot write PLY");
+  out.commit();
+}
+
+ColoredCloud readPly(const std::string& path) {
+  if (!fileExists(path)) throw InputError(path, "file not found");
+  pcl::PointCloud<pcl::PointXYZRGB> pc;
+  int rc = -1;
+  // PCL warns about every PLY property it does not map (e.g. the 'camera'
+  // element its own writer adds); failures are reported through rc instead.
+  const auto verbosity = pcl::console::getVerbosityLevel();
+  pcl::console::setVerbosityLevel(pcl::console::L_ERROR);
+  try {
+    rc = pcl::io::loadPLYFile(path, pc);
+    pcl::console::setVerbosityLevel(verbosity);
+  } catch (const std::exception& e) {
+    pcl::console::setVerbosityLevel(verbosity);
+    throw InputError(path, std::string("cannot read PLY (") + e.what() + ")");
+  }
+  if (rc < 0) throw InputError(path, "cannot read PLY point cloud");
+  ColoredCloud cloud;
+  cloud.reserve(pc.size());
+  for (const auto& q : pc) cloud.push_back(ColoredPoint{q.x, q.y, q.z, q.r, q.g, q.b});
+  return cloud;
+}
+
+ColoredCloud readMapPointsText(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw InputError(path, "cannot open");
+  ColoredCloud cloud;
+  std::string line;
+  std::size_t line_no = 0;
+  while (std::getline(in, line)) {
+    ++line_no;
+    const auto first = line.find_first_not_of(" \t\r");
+    if (first == std::string::npos || line[first] == '#') continue;
+    std::istringstream ss(line);
+    double x, y, z;
+    int r, g, b;
+    if (!(ss >> x >> y >> z >> r >> g >> b)) {
+      throw InputError(path, line_no, "expected \"x y z r g b\"");
+    }
+    if (r < 0 || r > 255 || g < 0 || g > 255 || b < 0 || b > 255) {
+      throw InputError(path, line_no, "colour components must be 0..255");
+    }
+    cloud.push_back(ColoredPoint{float(x), float(y), float(z), std::uint8_t(r),
+                                 std::uint8_t(g), std::uint8_t(b)});
+  }
+  return cloud;
+}
+
+void writeSparsePointsPly(const std::string& path, const ColoredCloud& points) {
+  writePlyBinary(path, points);
+}
+
+}  // namespace dynslam

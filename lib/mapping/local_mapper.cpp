@@ -1,0 +1,395 @@
+#include "mapping/local_mapper.h"
+
+#include <Eigen/Dense>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <map>
+#include <set>
+
+namespace dynslam {
+
+namespace {
+double msSince(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+}  // namespace
+
+LocalMapper::LocalMapper(Map& map, const LocalMapperParams& params, bool threaded)
+    : map_(map), p_(params), threaded_(threaded) {
+  if (threaded_) thread_ = std::thread([this] { run(); });
+}
+
+LocalMapper::~LocalMapper() { stop(); }
+
+void LocalMapper::stop() {
+  if (!threaded_) return;
+  {
+    std::lock_guard<std::mutex> lk(queue_mutex_);
+    stop_ = true;
+  }
+  cv_.notify_all();
+  if (thread_.joinable()) thread_.join();
+}
+
+void LocalMapper::insertKeyFrame(KeyFrame* kf) {
+  {
+    std::lock_guard<std::mutex> lk(queue_mutex_);
+    queue_.push_back(kf);
+  }
+  cv_.notify_all();
+}
+
+bool LocalMapper::idle() const {
+  if (!threaded_) return true;  // synchronous: always ready after processPending()
+  std::lock_guard<std::mutex> lk(queue_mutex_);
+  return queue_.empty() && !busy_;
+}
+
+std::size_t LocalMapper::queued() const {
+  std::lock_guard<std::mutex> lk(queue_mutex_);
+  return queue_.size();
+}
+
+void LocalMapper::processPending() {
+  for (;;) {
+    KeyFrame* kf = nullptr;
+    {
+      std::lock_guard<std::mutex> lk(queue_mutex_);
+      if (queue_.empty()) return;
+      kf = queue_.front();
+      queue_.pop_front();
+    }
+    processKeyFrame(kf);
+  }
+}
+
+void LocalMapper::run() {
+  for (;;) {
+    KeyFrame* kf = nullptr;
+    {
+      std::unique_lock<std::mutex> lk(queue_mutex_);
+      cv_.wait(lk, [&] { return stop_ || !queue_.empty(); });
+      if (queue_.empty()) return;  // stop requested and nothing left
+      kf = queue_.front();
+      queue_.pop_front();
+      busy_ = true;
+    }
+    processKeyFrame(kf);
+    {
+      std::lock_guard<std::mutex> lk(queue_mutex_);
+      busy_ = false;
+    }
+    cv_.notify_all();
+  }
+}
+
+void LocalMapper::flush() {
+  if (!threaded_) {
+    processPending();
+    return;
+  }
+  std::unique_lock<std::mutex> lk(queue_mutex_);
+  cv_.wait(lk, [&] { return queue_.empty() && !busy_; });
+}
+
+LocalMapper::Stats LocalMapper::stats() const {
+  std::lock_guard<std::mutex> lk(stats_mutex_);
+  return stats_;
+}
+
+void LocalMapper::processKeyFrame(KeyFrame* kf) {
+  const auto t0 = std::chrono::steady_clock::now();
+  {
+    std::lock_guard<std::mutex> lk(map_.mutex());
+    addObservations(kf);
+    cullRecentPoints(kf);
+    createNewPoints(kf);
+    fuseWithNeighbours(kf);
+  }
+  bool more_waiting;
+  {
+    std::lock_guard<std::mutex> lk(queue_mutex_);
+    more_waiting = !queue_.empty();
+  }
+  // Like ORB-SLAM, skip BA and culling when keyframes are piling up: the next
+  // keyframe's BA covers this window anyway.
+  if (!more_waiting) {
+    if (p_.local_ba && map_.keyFrameCount() > 2) bundleAdjust(kf);
+    std::lock_guard<std::mutex> lk(map_.mutex());
+    cullKeyFrames(kf);
+  }
+  std::lock_guard<std::mutex> lk(stats_mutex_);
+  stats_.keyframes_processed++;
+  stats_.step_ms.push_back(msSince(t0));
+}
+
+void LocalMapper::addObservations(KeyFrame* kf) {
+  for (std::size_t i = 0; i < kf->points.size(); ++i) {
+    MapPoint* mp = kf->points[i];
+    if (!mp) continue;
+    if (mp->bad) {
+      kf->erasePoint(static_cast<int>(i));
+      continue;
+    }
+    if (!mp->isInKeyFrame(kf)) {
+      mp->addObservation(kf, static_cast<int>(i));
+      mp->updateNormalAndDepth();
+      mp->updateDescriptor();
+    } else {
+      recent_points_.push_back(mp);  // created by the tracker for this keyframe
+    }
+  }
+  kf->updateConnections();
+}
+
+void LocalMapper::cullRecentPoints(KeyFrame* kf) {
+  for (auto it = recent_points_.begin(); it != recent_points_.end();) {
+    MapPoint* mp = *it;
+    const long age = kf->id - mp->first_kf_id;
+    if (mp->bad) {
+      it = recent_points_.erase(it);
+    } else if (mp->foundRatio() < p_.min_found_ratio) {
+      mp->setBad();
+      it = recent_points_.erase(it);
+    } else if (age >= 2 && mp->nObs() < p_.min_observations) {
+      mp->setBad();
+      it = recent_points_.erase(it);
+    } else if (age >= 3) {
+      it = recent_points_.erase(it);  // survived its probation
+    } else {
+      ++it;
+    }
+  }
+}
+
+void LocalMapper::createNewPoints(KeyFrame* kf) {
+  const FrameContext& ctx = *kf->f().ctx;
+  const double ratio_factor = 1.5 * ctx.scale_factor;
+  const Eigen::Matrix3d Kinv = [&] {
+    Eigen::Matrix3d K;
+    K << ctx.proj.fx, 0, ctx.proj.cx, 0, ctx.proj.fy, ctx.proj.cy, 0, 0, 1;
+    return Eigen::Matrix3d(K.inverse());
+  }();
+  const double min_baseline = ctx.proj.bf / ctx.proj.fx;
+  for (KeyFrame* nb : kf->bestCovisibles(p_.triangulation_neighbours)) {
+    if ((nb->pose.center() - kf->pose.center()).norm() < min_baseline) continue;
+    const auto pairs = matcher_.searchForTriangulation(*kf, *nb);
+    const FeatureSet& f1 = kf->f();
+    const FeatureSet& f2 = nb->f();
+    Eigen::Matrix<double, 3, 4> P1, P2;
+    P1 << kf->pose.Rcw(), kf->pose.tcw();
+    P2 << nb->pose.Rcw(), nb->pose.tcw();
+    for (const auto& [i1, i2] : pairs) {
+      const cv::KeyPoint& k1 = f1.keys_un[i1];
+      const cv::KeyPoint& k2 = f2.keys_un[i2];
+      const Eigen::Vector3d x1 = Kinv * Eigen::Vector3d(k1.pt.x, k1.pt.y, 1);
+      const Eigen::Vector3d x2 = Kinv * Eigen::Vector3d(k2.pt.x, k2.pt.y, 1);
+      const Eigen::Vector3d r1 = kf->pose.Rwc() * x1, r2 = nb->pose.Rwc() * x2;
+      const double cos_par = r1.dot(r2) / (r1.norm() * r2.norm());
+      if (!(cos_par > 0 && cos_par < 0.9998)) continue;
+      Eigen::Matrix4d A;
+      A.row(0) = x1.x() * P1.row(2) - P1.row(0);
+      A.row(1) = x1.y() * P1.row(2) - P1.row(1);
+      A.row(2) = x2.x() * P2.row(2) - P2.row(0);
+      A.row(3) = x2.y() * P2.row(2) - P2.row(1);
+      Eigen::JacobiSVD<Eigen::Matrix4d> svd(A, Eigen::ComputeFullV);
+      const Eigen::Vector4d h = svd.matrixV().col(3);
+      if (std::abs(h(3)) < 1e-12) continue;
+      const Eigen::Vector3d X = h.head<3>() / h(3);
+      const Eigen::Vector3d c1 = kf->pose.toCamera(X), c2 = nb->pose.toCamera(X);
+      if (c1.z() <= 0 || c2.z() <= 0) continue;
+      const Eigen::Vector2d p1 = ctx.proj.project(c1), p2 = ctx.proj.project(c2);
+      if ((p1 - Eigen::Vector2d(k1.pt.x, k1.pt.y)).squaredNorm() > 5.991 * ctx.sigma2[k1.octave]) continue;
+      if ((p2 - Eigen::Vector2d(k2.pt.x, k2.pt.y)).squaredNorm() > 5.991 * ctx.sigma2[k2.octave]) continue;
+      const double d1 = (X - kf->pose.center()).norm(), d2 = (X - nb->pose.center()).norm();
+      if (d1 == 0 || d2 == 0) continue;
+      const double ratio_dist = d2 / d1;
+      const double ratio_oct = ctx.scale[k1.octave] / ctx.scale[k2.octave];
+      if (ratio_dist * ratio_factor < ratio_oct || ratio_dist > ratio_oct * ratio_factor) continue;
+      if (kf->points[i1] || nb->points[i2]) continue;
+      MapPoint* mp = map_.createMapPoint(X, kf);
+      mp->addObservation(kf, i1);
+      mp->addObservation(nb, i2);
+      kf->addPoint(mp, i1);
+      nb->addPoint(mp, i2);
+      mp->updateDescriptor();
+      mp->updateNormalAndDepth();
+      recent_points_.push_back(mp);
+      std::lock_guard<std::mutex> lk(stats_mutex_);
+      stats_.new_points++;
+    }
+  }
+}
+
+void LocalMapper::fuseWithNeighbours(KeyFrame* kf) {
+  std::vector<KeyFrame*> targets;
+  for (KeyFrame* n : kf->bestCovisibles(p_.fusion_neighbours)) {
+    if (n->bad || n->fuse_target_kf == kf->id) continue;
+    n->fuse_target_kf = kf->id;
+    targets.push_back(n);
+  }
+  const std::size_t first = targets.size();
+  for (std::size_t k = 0; k < first; ++k) {
+    for (KeyFrame* n2 : targets[k]->bestCovisibles(p_.fusion_second_order)) {
+      if (n2->bad || n2 == kf || n2->fuse_target_kf == kf->id) continue;
+      n2->fuse_target_kf = kf->id;
+      targets.push_back(n2);
+    }
+  }
+  // This keyframe's points into the neighbours...
+  const std::vector<MapPoint*> own = kf->livePoints();
+  int fused_out = 0;
+  for (KeyFrame* t : targets) fused_out += matcher_.fuse(t, own);
+  // ...and the neighbours' points into this keyframe.
+  std::vector<MapPoint*> cand;
+  for (KeyFrame* t : targets) {
+    for (MapPoint* mp : t->points) {
+      if (!mp || mp->bad || mp->fuse_kf == kf->id) continue;
+      mp->fuse_kf = kf->id;
+      cand.push_back(mp);
+    }
+  }
+  const int fused_in = matcher_.fuse(kf, cand);
+  if (std::getenv("DYNSLAM_DEBUG_MAPPING"))
+    std::fprintf(stderr, "[map] kf %ld fusion: %zu targets, %zu own points -> %d fused; %zu candidates -> %d fused\n",
+                 kf->id, targets.size(), own.size(), fused_out, cand.size(), fused_in);
+  for (MapPoint* mp : kf->points) {
+    if (mp && !mp->bad) {
+      mp->updateDescriptor();
+      mp->updateNormalAndDepth();
+    }
+  }
+  kf->updateConnections();
+}
+
+void LocalMapper::bundleAdjust(KeyFrame* kf) {
+  const auto t0 = std::chrono::steady_clock::now();
+  BAProblem prob;
+  std::vector<KeyFrame*> kfs;
+  std::vector<MapPoint*> pts;
+  struct ObsRef { KeyFrame* kf; MapPoint* mp; };
+  std::vector<ObsRef> obs_refs;
+  {
+    std::lock_guard<std::mutex> lk(map_.mutex());
+    const FrameContext& ctx = *kf->f().ctx;
+    prob.camera = ctx.proj;
+    std::vector<KeyFrame*> local = {kf};
+    kf->ba_local_kf = kf->id;
+    for (KeyFrame* n : kf->orderedCovisibles()) {
+      if (n->bad) continue;
+      n->ba_local_kf = kf->id;
+      local.push_back(n);
+    }
+    for (KeyFrame* k : local) {
+      for (MapPoint* mp : k->points) {
+        if (!mp || mp->bad || mp->ba_kf == kf->id) continue;
+        mp->ba_kf = kf->id;
+        pts.push_back(mp);
+      }
+    }
+    std::vector<KeyFrame*> fixed;
+    for (MapPoint* mp : pts) {
+      for (auto& [o, idx] : mp->obs) {
+        if (o->bad || o->ba_local_kf == kf->id || o->ba_fixed_kf == kf->id) continue;
+        o->ba_fixed_kf = kf->id;
+        fixed.push_back(o);
+      }
+    }
+    std::map<const KeyFrame*, int> kf_index;
+    for (KeyFrame* k : local) {
+      kf_index[k] = static_cast<int>(kfs.size());
+      kfs.push_back(k);
+      prob.keyframes.push_back({k->pose.wc(), k->id == 0});
+    }
+    for (KeyFrame* k : fixed) {
+      kf_index[k] = static_cast<int>(kfs.size());
+      kfs.push_back(k);
+      prob.keyframes.push_back({k->pose.wc(), true});
+    }
+    for (std::size_t pi = 0; pi < pts.size(); ++pi) {
+      MapPoint* mp = pts[pi];
+      prob.points.push_back({mp->pos});
+      for (auto& [o, idx] : mp->obs) {
+        auto it = kf_index.find(o);
+        if (it == kf_index.end()) continue;
+        const cv::KeyPoint& kp = o->f().keys_un[idx];
+        BAObservation ob;
+        ob.keyframe = it->second;
+        ob.point = static_cast<int>(pi);
+        ob.pixel = Eigen::Vector2d(kp.pt.x, kp.pt.y);
+        ob.ur = o->f().ur[idx];
+        ob.inv_sigma2 = ctx.inv_sigma2[kp.octave];
+        prob.observations.push_back(ob);
+        obs_refs.push_back({o, mp});
+      }
+    }
+  }
+  // The solve runs without the map lock so tracking continues meanwhile.
+  const BAResult res = dynslam::bundleAdjust(prob, p_.ba);
+  if (std::getenv("DYNSLAM_DEBUG_MAPPING")) {
+    std::size_t out = 0;
+    for (bool b : res.inlier) out += !b;
+    std::map<int, int> hist;
+    for (MapPoint* mp : pts) hist[std::min(mp->nObs(), 6)]++;
+    std::fprintf(stderr, "[map] kf %ld BA: %zu local+fixed kfs, %zu points, %zu obs, %zu outliers; nObs hist:", kf->id,
+                 kfs.size(), pts.size(), prob.observations.size(), out);
+    for (auto& [k, v] : hist) std::fprintf(stderr, " %d:%d", k, v);
+    std::fprintf(stderr, "\n");
+  }
+  {
+    std::lock_guard<std::mutex> lk(map_.mutex());
+    for (std::size_t k = 0; k < obs_refs.size(); ++k) {
+      if (res.inlier[k]) continue;
+      KeyFrame* o = obs_refs[k].kf;
+      MapPoint* mp = obs_refs[k].mp;
+      auto it = mp->obs.find(o);
+      if (it == mp->obs.end()) continue;
+      const int idx = it->second;
+      o->erasePoint(idx);
+      mp->eraseObservation(o);
+    }
+    for (std::size_t k = 0; k < kfs.size(); ++k)
+      if (!prob.keyframes[k].fixed && !kfs[k]->bad) kfs[k]->pose.set(prob.keyframes[k].pose_wc);
+    for (std::size_t pi = 0; pi < pts.size(); ++pi) {
+      if (pts[pi]->bad) continue;
+      pts[pi]->pos = prob.points[pi].position;
+      pts[pi]->updateNormalAndDepth();
+    }
+  }
+  std::lock_guard<std::mutex> lk(stats_mutex_);
+  stats_.ba_runs++;
+  stats_.ba_ms.push_back(msSince(t0));
+}
+
+void LocalMapper::cullKeyFrames(KeyFrame* kf) {
+  const std::vector<KeyFrame*> neighbours = kf->orderedCovisibles();  // setBad() edits the list
+  for (KeyFrame* n : neighbours) {
+    if (n->id == 0 || n->bad) continue;
+    const FeatureSet& f = n->f();
+    const FrameContext& ctx = *f.ctx;
+    int points = 0, redundant = 0;
+    for (std::size_t i = 0; i < n->points.size(); ++i) {
+      MapPoint* mp = n->points[i];
+      if (!mp || mp->bad) continue;
+      if (f.depth[i] <= 0 || f.depth[i] > ctx.close_depth) continue;
+      ++points;
+      if (mp->nObs() <= p_.redundant_observers) continue;
+      const int level = f.keys_un[i].octave;
+      int observers = 0;
+      for (auto& [o, idx] : mp->obs) {
+        if (o == n) continue;
+        if (o->f().keys_un[idx].octave <= level + 1 && ++observers >= p_.redundant_observers) break;
+      }
+      if (observers >= p_.redundant_observers) ++redundant;
+    }
+    if (points > 0 && redundant > p_.redundant_ratio * points) {
+      n->setBad();
+      std::lock_guard<std::mutex> lk(stats_mutex_);
+      stats_.culled_keyframes++;
+    }
+  }
+}
+
+}  // namespace dynslam

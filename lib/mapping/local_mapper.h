@@ -1,0 +1,84 @@
+#pragma once
+// Local mapping: turns each new keyframe into map structure — observations
+// and covisibility links, new points triangulated with its neighbours,
+// duplicate points fused, local bundle adjustment over the covisible window
+// (outer keyframes fixed), and culling of weak points and redundant
+// keyframes. Runs in its own thread, or synchronously (deterministic mode:
+// the same input gives the same trajectory).
+#include <atomic>
+#include <condition_variable>
+#include <deque>
+#include <list>
+#include <mutex>
+#include <thread>
+
+#include "map/map.h"
+#include "matching/feature_matcher.h"
+#include "optim/bundle_adjuster.h"
+#include "tracking/tracker.h"
+
+namespace dynslam {
+
+struct LocalMapperParams {
+  int triangulation_neighbours = 10;  ///< covisible keyframes searched for new points
+  int fusion_neighbours = 10;         ///< first-order neighbours for duplicate fusion
+  int fusion_second_order = 5;        ///< second-order neighbours per first-order one
+  double min_found_ratio = 0.25;      ///< recent points found/visible below: culled
+  int min_observations = 2;           ///< recent points seen by fewer keyframes (after 2 more keyframes): culled
+  double redundant_ratio = 0.9;       ///< keyframe culled when this share of its points is seen elsewhere
+  int redundant_observers = 3;        ///< ...by at least this many other keyframes
+  bool local_ba = true;
+  BAParams ba;
+  /// Culls a map point once it has matched keypoints flagged dynamic this many times.
+  int dynamic_cull_hits = 2;
+};
+
+class LocalMapper : public KeyFrameSink {
+ public:
+  /// threaded = false: keyframes queue up until processPending() is called.
+  LocalMapper(Map& map, const LocalMapperParams& params, bool threaded);
+  ~LocalMapper() override;
+
+  void insertKeyFrame(KeyFrame* kf) override;
+  bool idle() const override;
+  std::size_t queued() const override;
+
+  /// Processes queued keyframes in the calling thread (deterministic mode).
+  void processPending();
+  /// Waits until the queue is empty and the mapper idle (threaded mode).
+  void flush();
+  void stop();
+
+  struct Stats {
+    std::size_t keyframes_processed = 0, culled_keyframes = 0, new_points = 0, ba_runs = 0;
+    std::vector<double> ba_ms, step_ms;
+  };
+  Stats stats() const;
+
+ private:
+  void run();
+  void processKeyFrame(KeyFrame* kf);
+  void addObservations(KeyFrame* kf);
+  void cullRecentPoints(KeyFrame* kf);
+  void createNewPoints(KeyFrame* kf);
+  void fuseWithNeighbours(KeyFrame* kf);
+  void bundleAdjust(KeyFrame* kf);
+  void cullKeyFrames(KeyFrame* kf);
+
+  Map& map_;
+  LocalMapperParams p_;
+  FeatureMatcher matcher_;
+  std::list<MapPoint*> recent_points_;
+
+  mutable std::mutex queue_mutex_;
+  std::condition_variable cv_;
+  std::deque<KeyFrame*> queue_;
+  std::atomic<bool> busy_{false};
+  std::atomic<bool> stop_{false};
+  bool threaded_;
+  std::thread thread_;
+  mutable std::mutex stats_mutex_;
+  Stats stats_;
+};
+
+}  // namespace dynslam

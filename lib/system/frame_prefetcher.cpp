@@ -1,0 +1,71 @@
+#include "system/frame_prefetcher.h"
+
+#include <chrono>
+#include <stdexcept>
+
+namespace dynslam {
+
+namespace {
+std::pair<RGBDFrame, double> timedLoad(const FrameSource& s, std::size_t i) {
+  const auto t0 = std::chrono::steady_clock::now();
+  RGBDFrame f = s.load(i);
+  return {std::move(f), std::chrono::duration<double, std::milli>(
+                            std::chrono::steady_clock::now() - t0).count()};
+}
+}  // namespace
+
+FramePrefetcher::FramePrefetcher(const FrameSource& source, std::size_t count,
+                                 std::size_t depth)
+    : source_(source), count_(count), depth_(depth) {
+  if (depth_ > 0) thread_ = std::thread([this] { run(); });
+}
+
+FramePrefetcher::~FramePrefetcher() {
+  {
+    std::lock_guard<std::mutex> lk(m_);
+    stop_ = true;
+  }
+  cv_.notify_all();
+  if (thread_.joinable()) thread_.join();
+}
+
+void FramePrefetcher::run() {
+  for (;;) {
+    std::size_t i;
+    {
+      std::unique_lock<std::mutex> lk(m_);
+      cv_.wait(lk, [&] { return stop_ || ready_.size() < depth_; });
+      if (stop_ || next_to_load_ >= count_ || error_) return;
+      i = next_to_load_++;
+    }
+    try {
+      auto item = timedLoad(source_, i);
+      std::lock_guard<std::mutex> lk(m_);
+      ready_.push_back(std::move(item));
+    } catch (...) {
+      std::lock_guard<std::mutex> lk(m_);
+      error_ = std::current_exception();
+    }
+    cv_.notify_all();
+  }
+}
+
+RGBDFrame FramePrefetcher::next(double* load_ms) {
+  if (next_to_give_ >= count_) throw std::out_of_range("FramePrefetcher: no more frames");
+  std::pair<RGBDFrame, double> item;
+  if (depth_ == 0) {
+    item = timedLoad(source_, next_to_give_);
+  } else {
+    std::unique_lock<std::mutex> lk(m_);
+    cv_.wait(lk, [&] { return !ready_.empty() || error_; });
+    if (ready_.empty()) std::rethrow_exception(error_);
+    item = std::move(ready_.front());
+    ready_.pop_front();
+  }
+  cv_.notify_all();
+  ++next_to_give_;
+  if (load_ms) *load_ms = item.second;
+  return std::move(item.first);
+}
+
+}  // namespace dynslam

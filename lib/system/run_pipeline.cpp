@@ -1,0 +1,165 @@
+#include "system/run_pipeline.h"
+
+#include <sys/resource.h>
+
+#include <algorithm>
+#include <chrono>
+#include <filesystem>
+#include <iomanip>
+#include <sstream>
+
+#include "core/atomic_file.h"
+#include "core/errors.h"
+#include "core/json_writer.h"
+#include "core/progress.h"
+#include "rawlog/sequence_source.h"
+#include "system/frame_prefetcher.h"
+#include "system/slam_system.h"
+
+namespace dynslam {
+
+namespace {
+
+double peakRssMb() {
+  struct rusage ru {};
+  getrusage(RUSAGE_SELF, &ru);
+  return ru.ru_maxrss / 1024.0;  // KiB on Linux
+}
+
+void writeStats(JsonWriter& w, const std::string& key, const std::vector<double>& v) {
+  const SummaryStats s = summarize(v);
+  w.beginObject(key)
+      .value("count", s.count)
+      .value("mean", s.mean)
+      .value("median", s.median)
+      .value("p95", s.p95)
+      .value("max", s.max)
+      .endObject();
+}
+
+void writeMapPoints(const std::string& path, const Map& map) {
+  writeFileAtomically(path, [&](std::ostream& os) {
+    os << "# x y z r g b (world frame, colour of the reference keyframe's pixel)\n";
+    os << std::setprecision(7);
+    for (MapPoint* mp : map.mapPoints()) {
+      cv::Vec3b bgr(200, 200, 200);
+      if (mp->ref_kf) {
+        auto it = mp->obs.find(mp->ref_kf);
+        if (it != mp->obs.end()) bgr = mp->ref_kf->f().colors[it->second];
+      }
+      os << mp->pos.x() << ' ' << mp->pos.y() << ' ' << mp->pos.z() << ' ' << int(bgr[2]) << ' '
+         << int(bgr[1]) << ' ' << int(bgr[0]) << '\n';
+    }
+  });
+}
+
+std::string yamlQuote(const std::string& s) {
+  std::string o = "\"";
+  for (char c : s) {
+    if (c == '"' || c == '\\') o += '\\';
+    o += c;
+  }
+  return o + "\"";
+}
+
+}  // namespace
+
+RunSummary runSlam(const RunOptions& opt) {
+  if (opt.mode != "off")
+    throw std::runtime_error("--mode " + opt.mode +
+                             ": dynamic-feature rejection is not available in this build yet "
+                             "(only 'off')");
+  const std::string config_path = opt.config_path.empty() ? defaultSlamConfigPath() : opt.config_path;
+  SlamConfig cfg = loadSlamConfig(config_path);
+  if (opt.deterministic >= 0) cfg.system.deterministic = opt.deterministic != 0;
+
+  std::unique_ptr<FrameSource> source = openSequence(opt.input, opt.camera_config);
+  std::size_t n = source->size();
+  if (opt.max_frames > 0) n = std::min(n, opt.max_frames);
+  makeDirectories(opt.out_dir);
+
+  SlamSystem slam(cfg, source->camera());
+  FramePrefetcher frames(*source, n, static_cast<std::size_t>(std::max(0, cfg.system.prefetch_frames)));
+  ProgressLine progress("frame", n);
+  std::vector<double> read_ms;
+  std::size_t tracked = 0, lost = 0;
+  long first_lost = -1;
+  const auto t0 = std::chrono::steady_clock::now();
+  for (std::size_t i = 0; i < n; ++i) {
+    double load = 0;
+    const RGBDFrame frame = frames.next(&load);
+    read_ms.push_back(load);
+    const FrameOutcome out = slam.process(frame);
+    if (out.track.has_pose) {
+      ++tracked;
+    } else if (out.track.state == TrackingState::kLost) {
+      ++lost;
+      if (first_lost < 0) first_lost = static_cast<long>(i);
+    }
+    progress.update(i + 1, "kf " + std::to_string(slam.map().keyFrameCount()));
+  }
+  slam.finish();
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  progress.finish();
+
+  RunSummary sum;
+  sum.frames = n;
+  sum.tracked = tracked;
+  sum.keyframes = slam.map().keyFrameCount();
+  sum.map_points = slam.map().mapPointCount();
+  sum.wall_s = wall;
+  sum.fps = wall > 0 ? n / wall : 0;
+
+  const std::string dir = opt.out_dir;
+  const std::string header = "dynslam " DYNSLAM_VERSION " run of " + opt.input;
+  writeTumTrajectory(dir + "/trajectory.txt", slam.frameTrajectory(), header);
+  writeTumTrajectory(dir + "/keyframes.txt", slam.keyFrameTrajectory(), header + " (keyframes)");
+  writeMapPoints(dir + "/map_points.txt", slam.map());
+  writeFileAtomically(dir + "/run_info.yaml", [&](std::ostream& os) {
+    os << "# Inputs of this run (read by `dynslam export`).\n"
+       << "input: " << yamlQuote(std::filesystem::absolute(opt.input).string()) << "\n"
+       << "camera_config: "
+       << yamlQuote(opt.camera_config.empty() ? "" : std::filesystem::absolute(opt.camera_config).string())
+       << "\n"
+       << "config: " << yamlQuote(std::filesystem::absolute(config_path).string()) << "\n"
+       << "mode: " << yamlQuote(opt.mode) << "\n"
+       << "frames: " << n << "\n";
+  });
+
+  JsonWriter w;
+  w.beginObject()
+      .value("dynslam_version", DYNSLAM_VERSION)
+      .value("input", opt.input)
+      .value("camera", source->camera().name)
+      .value("config", config_path)
+      .value("mode", opt.mode)
+      .value("deterministic", cfg.system.deterministic)
+      .value("frames", n)
+      .value("tracked_frames", tracked)
+      .value("lost_frames", lost)
+      .value("first_lost_frame", static_cast<int64_t>(first_lost))
+      .value("tracked_fraction", n ? double(tracked) / n : 0.0)
+      .value("keyframes", sum.keyframes)
+      .value("map_points", sum.map_points)
+      .value("wall_time_s", wall)
+      .value("fps", sum.fps)
+      .value("peak_rss_mb", peakRssMb());
+  w.beginObject("timing_ms");
+  writeStats(w, "read_frame", read_ms);
+  for (const auto& stage : slam.times().stages()) writeStats(w, stage, slam.times().samples(stage));
+  w.endObject();
+  const LocalMapper::Stats ms = slam.mapperStats();
+  w.beginObject("local_mapping")
+      .value("keyframes_processed", ms.keyframes_processed)
+      .value("culled_keyframes", ms.culled_keyframes)
+      .value("triangulated_points", ms.new_points)
+      .value("bundle_adjustments", ms.ba_runs);
+  writeStats(w, "ba_ms", ms.ba_ms);
+  writeStats(w, "keyframe_ms", ms.step_ms);
+  w.endObject();
+  w.endObject();
+  writeFileAtomically(dir + "/report.json", [&](std::ostream& os) { os << w.str(); });
+  return sum;
+}
+
+}  // namespace dynslam

@@ -1,0 +1,33 @@
+#pragma once
+// `dynslam run`: plays a sequence through the SLAM system and writes the run
+// folder. All files are written at the end, each atomically, so a failed run
+// leaves no partial results that could be mistaken for real ones.
+//
+// Run folder layout (read by `dynslam export` and the benchmarks):
+//   trajectory.txt   every tracked frame, TUM format, camera-to-world
+//   keyframes.txt    final keyframe poses, TUM format
+//   map_points.txt   "x y z r g b" per map point (world frame)
+//   run_info.yaml    input path, camera config, config, mode
+//   report.json      counts, per-stage times, fps, peak memory
+#include <string>
+
+namespace dynslam {
+
+struct RunOptions {
+  std::string input;          ///< TUM folder or .rawlog
+  std::string out_dir;
+  std::string config_path;    ///< empty: configs/dynslam.yaml
+  std::string camera_config;  ///< empty: from the sequence
+  std::string mode = "off";   ///< off | detect | flow | detect+flow
+  std::size_t max_frames = 0; ///< 0: all
+  int deterministic = -1;     ///< -1: as configured, 0/1: override
+};
+
+struct RunSummary {
+  std::size_t frames = 0, tracked = 0, keyframes = 0, map_points = 0;
+  double wall_s = 0, fps = 0;
+};
+
+RunSummary runSlam(const RunOptions& options);
+
+}  // namespace dynslam

@@ -1,0 +1,77 @@
+#include "system/slam_system.h"
+
+#include <opencv2/imgproc.hpp>
+
+#include <chrono>
+
+namespace dynslam {
+
+namespace {
+using Clock = std::chrono::steady_clock;
+double ms(Clock::time_point a, Clock::time_point b) {
+  return std::chrono::duration<double, std::milli>(b - a).count();
+}
+}  // namespace
+
+SlamSystem::SlamSystem(const SlamConfig& config, const PinholeCamera& camera)
+    : cfg_(config), ctx_(std::make_shared<FrameContext>()), orb_(config.orb) {
+  const double close =
+      cfg_.system.close_depth > 0 ? cfg_.system.close_depth : 40.0 * cfg_.system.bf / camera.fx;
+  ctx_->init(camera, cfg_.system.bf, close, cfg_.orb.n_levels, cfg_.orb.scale_factor);
+  mapper_ = std::make_unique<LocalMapper>(map_, cfg_.mapper, !cfg_.system.deterministic);
+  tracker_ = std::make_unique<Tracker>(map_, *mapper_, cfg_.tracker, cfg_.pose_optimizer);
+}
+
+SlamSystem::~SlamSystem() { finish(); }
+
+FrameOutcome SlamSystem::process(const RGBDFrame& frame) {
+  const auto t0 = Clock::now();
+  if (frame.rgb.channels() == 3) cv::cvtColor(frame.rgb, gray_, cv::COLOR_BGR2GRAY);
+  else gray_ = frame.rgb;
+  auto feats = std::make_shared<FeatureSet>();
+  feats->ctx = ctx_;
+  orb_.extract(gray_, feats->keys, feats->descriptors);
+  const auto t1 = Clock::now();
+  feats->dynamic.assign(feats->keys.size(), 0);
+  if (preprocessor_) preprocessor_->process(frame, gray_, feats->keys, feats->dynamic);
+  const auto t2 = Clock::now();
+  feats->finalize(frame.depth, frame.rgb);
+
+  FrameOutcome out;
+  out.features = feats;
+  {
+    std::lock_guard<std::mutex> lk(map_.mutex());
+    out.track = tracker_->track(feats, frame.index, frame.timestamp);
+  }
+  const auto t3 = Clock::now();
+  if (cfg_.system.deterministic) mapper_->processPending();
+  const auto t4 = Clock::now();
+  times_.add("extract", ms(t0, t1));
+  if (preprocessor_) times_.add("preprocess", ms(t1, t2));
+  times_.add("track", ms(t2, t3));
+  if (cfg_.system.deterministic) times_.add("mapping_inline", ms(t3, t4));
+  times_.add("frame_total", ms(t0, t4));
+  return out;
+}
+
+void SlamSystem::finish() {
+  if (mapper_) {
+    mapper_->flush();
+    mapper_->stop();
+  }
+}
+
+Trajectory SlamSystem::frameTrajectory() const {
+  Trajectory t;
+  for (const auto& r : tracker_->records())
+    t.push_back({r.timestamp, r.ref_kf->pose.wc() + r.rel});
+  return t;
+}
+
+Trajectory SlamSystem::keyFrameTrajectory() const {
+  Trajectory t;
+  for (KeyFrame* kf : map_.keyFrames()) t.push_back({kf->timestamp, kf->pose.wc()});
+  return t;
+}
+
+}  // namespace dynslam

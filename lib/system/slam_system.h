@@ -1,0 +1,70 @@
+#pragma once
+// The assembled SLAM pipeline for one camera: feature extraction, the
+// observation preprocessor hook (dynamic-feature rejection), tracking and
+// local mapping. Feed frames in order with process(); read the trajectory
+// and the map when done.
+#include <functional>
+#include <memory>
+
+#include "core/rgbd_frame.h"
+#include "core/stats.h"
+#include "core/trajectory.h"
+#include "features/orb_extractor.h"
+#include "map/map.h"
+#include "mapping/local_mapper.h"
+#include "system/system_config.h"
+#include "tracking/tracker.h"
+
+namespace dynslam {
+
+/// Marks keypoints on moving objects: called for every frame between feature
+/// extraction and tracking. `dynamic` has one entry per keypoint, all 0 on
+/// entry; set 1 for keypoints SLAM must ignore.
+class ObservationPreprocessor {
+ public:
+  virtual ~ObservationPreprocessor() = default;
+  virtual void process(const RGBDFrame& frame, const cv::Mat& gray,
+                       const std::vector<cv::KeyPoint>& keypoints,
+                       std::vector<uint8_t>& dynamic) = 0;
+};
+
+struct FrameOutcome {
+  TrackResult track;
+  std::shared_ptr<const FeatureSet> features;
+};
+
+class SlamSystem {
+ public:
+  SlamSystem(const SlamConfig& config, const PinholeCamera& camera);
+  ~SlamSystem();
+
+  /// Optional; not owned. Set before the first frame.
+  void setPreprocessor(ObservationPreprocessor* p) { preprocessor_ = p; }
+
+  FrameOutcome process(const RGBDFrame& frame);
+  /// Finishes pending mapping work and stops the mapping thread.
+  void finish();
+
+  /// Every tracked frame, camera-to-world, with poses re-expressed through
+  /// their reference keyframes' final poses.
+  Trajectory frameTrajectory() const;
+  Trajectory keyFrameTrajectory() const;
+  const Map& map() const { return map_; }
+  Map& map() { return map_; }
+  const StageTimes& times() const { return times_; }
+  LocalMapper::Stats mapperStats() const { return mapper_->stats(); }
+  const FrameContext& context() const { return *ctx_; }
+
+ private:
+  SlamConfig cfg_;
+  std::shared_ptr<FrameContext> ctx_;
+  OrbExtractor orb_;
+  Map map_;
+  std::unique_ptr<LocalMapper> mapper_;
+  std::unique_ptr<Tracker> tracker_;
+  ObservationPreprocessor* preprocessor_ = nullptr;
+  StageTimes times_;
+  cv::Mat gray_;
+};
+
+}  // namespace dynslam

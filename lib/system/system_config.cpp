@@ -1,0 +1,81 @@
+#include "system/system_config.h"
+
+#include "core/camera.h"
+#include "core/config_reader.h"
+
+namespace dynslam {
+
+std::string defaultSlamConfigPath() { return configDir() + "/dynslam.yaml"; }
+
+SlamConfig loadSlamConfig(const std::string& path) {
+  SlamConfig c;
+  c.source = path;
+  ConfigSection root(loadYamlFile(path), path, "");
+
+  ConfigSection s = root.sub("system");
+  s.read("deterministic", c.system.deterministic)
+      .read("bf", c.system.bf)
+      .read("close_depth", c.system.close_depth)
+      .read("prefetch_frames", c.system.prefetch_frames);
+  s.rejectUnknownKeys();
+
+  ConfigSection o = root.sub("orb");
+  o.read("n_features", c.orb.n_features)
+      .read("scale_factor", c.orb.scale_factor)
+      .read("n_levels", c.orb.n_levels)
+      .read("ini_fast_threshold", c.orb.ini_fast_threshold)
+      .read("min_fast_threshold", c.orb.min_fast_threshold);
+  o.rejectUnknownKeys();
+  if (c.orb.n_features < 50 || c.orb.n_levels < 1 || !(c.orb.scale_factor > 1.0f))
+    throw InputError(path, "orb: n_features >= 50, n_levels >= 1, scale_factor > 1 required");
+
+  TrackerParams& t = c.tracker;
+  ConfigSection tr = root.sub("tracker");
+  tr.read("motion_search_radius", t.motion_search_radius)
+      .read("local_search_radius", t.local_search_radius)
+      .read("min_motion_matches", t.min_motion_matches)
+      .read("min_inliers_motion", t.min_inliers_motion)
+      .read("min_inliers_local", t.min_inliers_local)
+      .read("max_local_keyframes", t.max_local_keyframes)
+      .read("max_frames_between_kf", t.max_frames_between_kf)
+      .read("min_frames_between_kf", t.min_frames_between_kf)
+      .read("kf_ref_ratio", t.kf_ref_ratio)
+      .read("kf_close_tracked_max", t.kf_close_tracked_max)
+      .read("kf_close_untracked_min", t.kf_close_untracked_min)
+      .read("kf_min_new_points", t.kf_min_new_points)
+      .read("init_min_points", t.init_min_points)
+      .read("temporal_points", t.temporal_points);
+  tr.rejectUnknownKeys();
+
+  ConfigSection po = root.sub("pose_optimizer");
+  po.read("rounds", c.pose_optimizer.rounds)
+      .read("iterations_per_round", c.pose_optimizer.iterations_per_round)
+      .read("chi2_mono", c.pose_optimizer.chi2_mono)
+      .read("chi2_stereo", c.pose_optimizer.chi2_stereo);
+  po.rejectUnknownKeys();
+
+  LocalMapperParams& m = c.mapper;
+  ConfigSection lm = root.sub("local_mapper");
+  lm.read("triangulation_neighbours", m.triangulation_neighbours)
+      .read("fusion_neighbours", m.fusion_neighbours)
+      .read("fusion_second_order", m.fusion_second_order)
+      .read("min_found_ratio", m.min_found_ratio)
+      .read("min_observations", m.min_observations)
+      .read("redundant_ratio", m.redundant_ratio)
+      .read("redundant_observers", m.redundant_observers)
+      .read("local_ba", m.local_ba)
+      .read("dynamic_cull_hits", m.dynamic_cull_hits);
+  ConfigSection ba = lm.sub("bundle_adjustment");
+  ba.read("iterations_first", m.ba.iterations_first)
+      .read("iterations_second", m.ba.iterations_second)
+      .read("chi2_mono", m.ba.chi2_mono)
+      .read("chi2_stereo", m.ba.chi2_stereo)
+      .read("threads", m.ba.threads);
+  ba.rejectUnknownKeys();
+  lm.rejectUnknownKeys();
+
+  root.rejectUnknownKeys();
+  return c;
+}
+
+}  // namespace dynslam

@@ -1,0 +1,44 @@
+#pragma once
+// All parameters of a run, grouped by pipeline stage, with their defaults in
+// code and documented in configs/dynslam.yaml. Parsing lives here so that the
+// stage libraries stay free of YAML.
+#include <string>
+
+#include "features/orb_extractor.h"
+#include "mapping/local_mapper.h"
+#include "optim/pose_optimizer.h"
+#include "tracking/tracker.h"
+
+namespace dynslam {
+
+struct SystemParams {
+  /// Local mapping in the tracking thread, so the same input always gives the
+  /// same trajectory (slower: tracking waits for mapping).
+  bool deterministic = false;
+  /// Virtual stereo baseline x fx for the depth residual (px*m).
+  double bf = 40.0;
+  /// Depth (m) below which a keypoint's depth is trusted ("close" point).
+  /// 0: 40 x bf / fx (ORB-SLAM's convention, about 3.1 m for a Kinect).
+  double close_depth = 0.0;
+  /// Frames decoded ahead of tracking by a reader thread (0: none).
+  int prefetch_frames = 4;
+};
+
+struct SlamConfig {
+  SystemParams system;
+  OrbParams orb;
+  TrackerParams tracker;
+  PoseOptimizerParams pose_optimizer;
+  LocalMapperParams mapper;
+  std::string source;  ///< file it was read from ("" = built-in defaults)
+};
+
+/// Reads a config YAML (sections system, orb, tracker, pose_optimizer,
+/// local_mapper); missing keys keep their defaults, unknown keys are an error
+/// naming the file.
+SlamConfig loadSlamConfig(const std::string& path);
+
+/// configs/dynslam.yaml
+std::string defaultSlamConfigPath();
+
+}  // namespace dynslam

@@ -1,0 +1,383 @@
+#include "tracking/tracker.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <map>
+
+namespace dynslam {
+
+namespace {
+// DYNSLAM_DEBUG_TRACKING=1 prints one line per frame on stderr.
+const bool kDebug = std::getenv("DYNSLAM_DEBUG_TRACKING") != nullptr;
+}  // namespace
+
+Tracker::Tracker(Map& map, KeyFrameSink& sink, const TrackerParams& params,
+                 const PoseOptimizerParams& optim)
+    : map_(map), sink_(sink), p_(params), optim_(optim) {}
+
+Tracker::~Tracker() = default;
+
+TrackResult Tracker::track(std::shared_ptr<const FeatureSet> features, std::size_t index,
+                           double timestamp) {
+  last_ = std::move(cur_);
+  cur_ = Frame(next_frame_id_++, index, timestamp, std::move(features));
+  TrackResult res;
+
+  if (state_ == TrackingState::kNotInitialized) {
+    if (initialize()) {
+      state_ = TrackingState::kOk;
+      res.new_keyframe = true;
+    }
+  } else {
+    bool ok = false;
+    if (state_ == TrackingState::kOk) {
+      if (p_.temporal_points) updateLastFrame();
+      ok = velocity_valid_ && trackWithMotionModel();
+      if (!ok) ok = trackReferenceKeyFrame();
+    } else {
+      // Lost: try the last reference keyframe by appearance (full
+      // relocalisation against the whole map comes with place recognition).
+      ok = trackReferenceKeyFrame();
+    }
+    if (ok) ok = trackLocalMap();
+    if (ok) {
+      velocity_valid_ = last_.has_pose;
+      if (velocity_valid_) velocity_ = cur_.pose.wc() - last_.pose.wc();
+      state_ = TrackingState::kOk;
+      // Matches marked outliers by the optimiser are dropped for the next frame.
+      for (std::size_t i = 0; i < cur_.points.size(); ++i)
+        if (cur_.points[i] && cur_.outlier[i]) cur_.points[i] = nullptr;
+      if (needNewKeyFrame()) {
+        createKeyFrame();
+        res.new_keyframe = true;
+      }
+      // Temporal points must not outlive this frame as matches.
+      for (std::size_t i = 0; i < cur_.points.size(); ++i)
+        if (cur_.points[i] && cur_.points[i]->nObs() == 0 && !cur_.points[i]->ref_kf)
+          cur_.points[i] = nullptr;
+    } else {
+      state_ = TrackingState::kLost;
+      velocity_valid_ = false;
+      cur_.has_pose = false;
+    }
+  }
+
+  if (kDebug)
+    std::fprintf(stderr, "[track] frame %zu state %d inliers %d local_kfs %zu local_pts %zu kf %d map_kfs %zu\n",
+                 index, static_cast<int>(state_), inliers_, local_kfs_.size(), local_points_.size(),
+                 res.new_keyframe ? 1 : 0, map_.keyFrameCount());
+  res.state = state_;
+  res.has_pose = cur_.has_pose && state_ == TrackingState::kOk;
+  res.inliers = inliers_;
+  if (res.has_pose) {
+    res.pose_wc = cur_.pose.wc();
+    if (!cur_.ref_kf) cur_.ref_kf = ref_kf_;
+    records_.push_back({index, timestamp, cur_.ref_kf, cur_.pose.wc() - cur_.ref_kf->pose.wc()});
+  }
+  return res;
+}
+
+bool Tracker::initialize() {
+  const FeatureSet& f = cur_.f();
+  int with_depth = 0;
+  for (std::size_t i = 0; i < f.size(); ++i)
+    if (f.depth[i] > 0 && !f.dynamic[i]) ++with_depth;
+  if (with_depth < p_.init_min_points) return false;
+  cur_.setPose(mrpt::poses::CPose3D());  // the first frame defines the world
+  KeyFrame* kf = map_.createKeyFrame(cur_.id, cur_.timestamp, cur_.index, cur_.features, cur_.pose);
+  for (std::size_t i = 0; i < f.size(); ++i) {
+    if (f.depth[i] <= 0 || f.dynamic[i]) continue;
+    MapPoint* mp = map_.createMapPoint(kf->pose.toWorld(f.unprojectCamera(i)), kf);
+    mp->addObservation(kf, static_cast<int>(i));
+    kf->addPoint(mp, static_cast<int>(i));
+    mp->updateDescriptor();
+    mp->updateNormalAndDepth();
+    cur_.points[i] = mp;
+  }
+  ref_kf_ = last_kf_ = kf;
+  cur_.ref_kf = kf;
+  last_kf_frame_id_ = cur_.id;
+  local_kfs_ = {kf};
+  local_points_ = kf->livePoints();
+  sink_.insertKeyFrame(kf);
+  return true;
+}
+
+void Tracker::updateLastFrame() {
+  // Keep the last frame's pose consistent with its (possibly BA-corrected)
+  // reference keyframe, then add temporary points from its depth so the
+  // motion model has enough to match right after a keyframe was culled.
+  if (!last_.has_pose || !last_.ref_kf) return;
+  if (!records_.empty() && records_.back().index == last_.index && !last_.ref_kf->bad)
+    last_.setPose(last_.ref_kf->pose.wc() + records_.back().rel);
+  temp_points_.clear();
+  if (last_kf_ && last_kf_->frame_id == last_.id) return;
+  const FeatureSet& f = last_.f();
+  std::vector<std::pair<float, int>> by_depth;
+  for (std::size_t i = 0; i < f.size(); ++i)
+    if (f.depth[i] > 0) by_depth.emplace_back(f.depth[i], static_cast<int>(i));
+  std::sort(by_depth.begin(), by_depth.end());
+  int n = 0;
+  for (const auto& [z, i] : by_depth) {
+    MapPoint* existing = last_.points[i];
+    if (!existing || existing->nObs() < 1) {
+      auto mp = std::make_unique<MapPoint>(-1, last_.pose.toWorld(f.unprojectCamera(i)), nullptr);
+      mp->descriptor = f.descriptors.row(i).clone();
+      last_.points[i] = mp.get();
+      last_.outlier[i] = 0;
+      temp_points_.push_back(std::move(mp));
+    }
+    ++n;
+    if (z > f.ctx->close_depth && n > p_.kf_min_new_points) break;
+  }
+}
+
+int Tracker::optimizeCurrentPose() {
+  const FeatureSet& f = cur_.f();
+  std::vector<PoseObservation> obs;
+  std::vector<int> idx;
+  for (std::size_t i = 0; i < cur_.points.size(); ++i) {
+    MapPoint* mp = cur_.points[i];
+    if (!mp) continue;
+    PoseObservation o;
+    o.point_world = mp->pos;
+    o.pixel = Eigen::Vector2d(f.keys_un[i].pt.x, f.keys_un[i].pt.y);
+    o.ur = f.ur[i];
+    o.inv_sigma2 = f.ctx->inv_sigma2[f.keys_un[i].octave];
+    obs.push_back(o);
+    idx.push_back(static_cast<int>(i));
+  }
+  if (obs.size() < 3) return 0;
+  const PoseOptimizerResult r = optimizePose(f.ctx->proj, cur_.pose.wc(), obs, optim_);
+  cur_.setPose(r.pose_wc);
+  for (std::size_t k = 0; k < idx.size(); ++k) cur_.outlier[idx[k]] = r.inlier[k] ? 0 : 1;
+  return r.n_inliers;
+}
+
+static int discardOutliers(Frame& fr) {
+  int good = 0;
+  for (std::size_t i = 0; i < fr.points.size(); ++i) {
+    if (!fr.points[i]) continue;
+    if (fr.outlier[i]) {
+      fr.points[i]->track_in_view = false;
+      fr.points[i]->last_seen_frame = fr.id;
+      fr.points[i] = nullptr;
+      fr.outlier[i] = 0;
+    } else if (fr.points[i]->nObs() > 0) {
+      ++good;
+    }
+  }
+  return good;
+}
+
+bool Tracker::trackWithMotionModel() {
+  cur_.setPose(last_.pose.wc() + velocity_);
+  std::fill(cur_.points.begin(), cur_.points.end(), nullptr);
+  int n = matcher_.searchByProjection(cur_, last_, p_.motion_search_radius);
+  if (n < p_.min_motion_matches) {
+    std::fill(cur_.points.begin(), cur_.points.end(), nullptr);
+    n = matcher_.searchByProjection(cur_, last_, 2 * p_.motion_search_radius);
+  }
+  if (n < p_.min_motion_matches) {
+    if (kDebug) std::fprintf(stderr, "[track] motion model: only %d matches\n", n);
+    return false;
+  }
+  optimizeCurrentPose();
+  const int good = discardOutliers(cur_);
+  if (kDebug) std::fprintf(stderr, "[track] motion model: %d matches, %d map inliers\n", n, good);
+  return good >= p_.min_inliers_motion;
+}
+
+bool Tracker::trackReferenceKeyFrame() {
+  if (!ref_kf_ || ref_kf_->bad) return false;
+  std::fill(cur_.points.begin(), cur_.points.end(), nullptr);
+  const int n = matcher_.searchByDescriptor(*ref_kf_, cur_);
+  if (kDebug) std::fprintf(stderr, "[track] reference keyframe %ld: %d matches\n", ref_kf_->id, n);
+  if (n < 15) return false;
+  cur_.setPose(last_.has_pose ? last_.pose.wc() : ref_kf_->pose.wc());
+  optimizeCurrentPose();
+  const int good = discardOutliers(cur_);
+  if (kDebug) std::fprintf(stderr, "[track] reference keyframe: %d inliers\n", good);
+  return good >= p_.min_inliers_motion;
+}
+
+bool Tracker::isInFrustum(MapPoint* mp, float view_cos_limit) {
+  mp->track_in_view = false;
+  const FrameContext& ctx = *cur_.f().ctx;
+  const Eigen::Vector3d pc = cur_.pose.toCamera(mp->pos);
+  if (pc.z() <= 0) return false;
+  const Eigen::Vector3d uvr = ctx.proj.projectStereo(pc);
+  if (!ctx.inImage(uvr.x(), uvr.y())) return false;
+  const Eigen::Vector3d po = mp->pos - cur_.pose.center();
+  const double dist = po.norm();
+  if (dist < 0.8 * mp->min_dist || dist > 1.2 * mp->max_dist) return false;
+  const double vc = po.dot(mp->normal) / dist;
+  if (vc < view_cos_limit) return false;
+  mp->pred_level = mp->predictScale(dist, ctx);
+  mp->proj_x = static_cast<float>(uvr.x());
+  mp->proj_y = static_cast<float>(uvr.y());
+  mp->proj_ur = static_cast<float>(uvr.z());
+  mp->view_cos = static_cast<float>(vc);
+  mp->track_in_view = true;
+  return true;
+}
+
+void Tracker::updateLocalMap() {
+  // Keyframes voting through the current matches, plus their neighbours.
+  std::map<KeyFrame*, int, KeyFrameIdLess> votes;
+  for (std::size_t i = 0; i < cur_.points.size(); ++i) {
+    MapPoint* mp = cur_.points[i];
+    if (!mp) continue;
+    if (mp->bad) {
+      cur_.points[i] = nullptr;
+      continue;
+    }
+    for (auto& [kf, idx] : mp->obs) votes[kf]++;
+  }
+  if (votes.empty()) return;
+  local_kfs_.clear();
+  KeyFrame* best = nullptr;
+  int best_votes = 0;
+  for (auto& [kf, v] : votes) {
+    if (kf->bad) continue;
+    if (v > best_votes) {
+      best_votes = v;
+      best = kf;
+    }
+    local_kfs_.push_back(kf);
+    kf->local_for_frame = cur_.id;
+  }
+  const std::size_t direct = local_kfs_.size();
+  for (std::size_t k = 0; k < direct && local_kfs_.size() < static_cast<std::size_t>(p_.max_local_keyframes); ++k) {
+    KeyFrame* kf = local_kfs_[k];
+    auto add = [&](KeyFrame* n) {
+      if (n && !n->bad && n->local_for_frame != cur_.id) {
+        n->local_for_frame = cur_.id;
+        local_kfs_.push_back(n);
+        return true;
+      }
+      return false;
+    };
+    for (KeyFrame* n : kf->bestCovisibles(10))
+      if (add(n)) break;
+    for (KeyFrame* c : kf->children)
+      if (add(c)) break;
+    add(kf->parent);
+  }
+  if (best) {
+    ref_kf_ = best;
+    cur_.ref_kf = best;
+  }
+  local_points_.clear();
+  for (KeyFrame* kf : local_kfs_) {
+    for (MapPoint* mp : kf->points) {
+      if (!mp || mp->bad || mp->track_frame == cur_.id) continue;
+      mp->track_frame = cur_.id;
+      local_points_.push_back(mp);
+    }
+  }
+}
+
+void Tracker::searchLocalPoints() {
+  for (std::size_t i = 0; i < cur_.points.size(); ++i) {
+    MapPoint* mp = cur_.points[i];
+    if (!mp) continue;
+    if (mp->bad) {
+      cur_.points[i] = nullptr;
+      continue;
+    }
+    mp->visible++;
+    mp->last_seen_frame = cur_.id;
+    mp->track_in_view = false;
+  }
+  int to_match = 0;
+  for (MapPoint* mp : local_points_) {
+    if (mp->last_seen_frame == cur_.id || mp->bad) continue;
+    if (isInFrustum(mp, 0.5f)) {
+      mp->visible++;
+      ++to_match;
+    }
+  }
+  int found = 0;
+  if (to_match > 0) found = matcher_.searchByProjection(cur_, local_points_, p_.local_search_radius);
+  if (kDebug) std::fprintf(stderr, "[track] local map: %d in view, %d new matches\n", to_match, found);
+}
+
+bool Tracker::trackLocalMap() {
+  updateLocalMap();
+  searchLocalPoints();
+  optimizeCurrentPose();
+  inliers_ = 0;
+  for (std::size_t i = 0; i < cur_.points.size(); ++i) {
+    MapPoint* mp = cur_.points[i];
+    if (!mp || cur_.outlier[i]) continue;
+    if (mp->nObs() > 0) {
+      mp->found++;
+      ++inliers_;
+    }
+  }
+  return inliers_ >= p_.min_inliers_local;
+}
+
+bool Tracker::needNewKeyFrame() const {
+  const std::size_t n_kfs = map_.keyFrameCount();
+  const int min_obs = n_kfs <= 2 ? 1 : 2;  // keyframes observing a point
+  const int ref_matches = ref_kf_ ? ref_kf_->trackedPoints(min_obs) : 0;
+  const bool idle = sink_.idle();
+  const FeatureSet& f = cur_.f();
+  int close_tracked = 0, close_untracked = 0;
+  for (std::size_t i = 0; i < f.size(); ++i) {
+    if (f.dynamic[i] || f.depth[i] <= 0 || f.depth[i] >= f.ctx->close_depth) continue;
+    if (cur_.points[i] && !cur_.outlier[i] && cur_.points[i]->nObs() > 0) ++close_tracked;
+    else ++close_untracked;
+  }
+  const bool need_close =
+      close_tracked < p_.kf_close_tracked_max && close_untracked > p_.kf_close_untracked_min;
+  const double ratio = n_kfs < 2 ? 0.4 : p_.kf_ref_ratio;
+  const bool c1a = cur_.id >= last_kf_frame_id_ + p_.max_frames_between_kf;
+  const bool c1b = cur_.id >= last_kf_frame_id_ + p_.min_frames_between_kf && idle;
+  const bool c1c = inliers_ < ref_matches * 0.25 || need_close;
+  const bool c2 = (inliers_ < ref_matches * ratio || need_close) && inliers_ > 15;
+  if (kDebug)
+    std::fprintf(stderr, "[track] kf decision: inliers %d ref_matches %d close %d/%d c1a %d c1b %d c1c %d c2 %d\n",
+                 inliers_, ref_matches, close_tracked, close_untracked, c1a, c1b, c1c, c2);
+  if (!((c1a || c1b || c1c) && c2)) return false;
+  return idle || sink_.queued() < 3;
+}
+
+void Tracker::createKeyFrame() {
+  KeyFrame* kf = map_.createKeyFrame(cur_.id, cur_.timestamp, cur_.index, cur_.features, cur_.pose);
+  const FeatureSet& f = cur_.f();
+  // Tracked map points: the mapper adds the observations.
+  for (std::size_t i = 0; i < cur_.points.size(); ++i) {
+    MapPoint* mp = cur_.points[i];
+    if (mp && !mp->bad && mp->nObs() > 0) kf->addPoint(mp, static_cast<int>(i));
+  }
+  // New points from depth: every close keypoint, at least kf_min_new_points.
+  std::vector<std::pair<float, int>> by_depth;
+  for (std::size_t i = 0; i < f.size(); ++i)
+    if (f.depth[i] > 0 && !f.dynamic[i]) by_depth.emplace_back(f.depth[i], static_cast<int>(i));
+  std::sort(by_depth.begin(), by_depth.end());
+  int n = 0;
+  for (const auto& [z, i] : by_depth) {
+    if (!kf->points[i]) {
+      MapPoint* mp = map_.createMapPoint(kf->pose.toWorld(f.unprojectCamera(i)), kf);
+      mp->addObservation(kf, i);
+      kf->addPoint(mp, i);
+      mp->updateDescriptor();
+      mp->updateNormalAndDepth();
+      cur_.points[i] = mp;
+      cur_.outlier[i] = 0;
+    }
+    ++n;
+    if (z > f.ctx->close_depth && n > p_.kf_min_new_points) break;
+  }
+  ref_kf_ = last_kf_ = kf;
+  cur_.ref_kf = kf;
+  last_kf_frame_id_ = cur_.id;
+  sink_.insertKeyFrame(kf);
+}
+
+}  // namespace dynslam

@@ -1,0 +1,117 @@
+#pragma once
+// Frame-to-map tracking for RGB-D input, in the ORB-SLAM2 style:
+// 1. predict the pose with a constant-velocity model and match the last
+//    frame's points by projection (fallback: appearance matching against the
+//    reference keyframe), 2. optimise the pose, 3. track the local map
+//    (covisible keyframes' points projected and matched), optimise again,
+//    4. decide whether the frame becomes a keyframe and hand it to the mapper.
+// Keypoints flagged dynamic never enter any of these steps.
+#include <functional>
+#include <memory>
+#include <vector>
+
+#include "map/frame.h"
+#include "map/map.h"
+#include "matching/feature_matcher.h"
+#include "optim/pose_optimizer.h"
+
+namespace dynslam {
+
+struct TrackerParams {
+  float motion_search_radius = 15.f;  ///< px window (x level scale) for motion-model search
+  float local_search_radius = 3.f;    ///< window factor for local-map projection search
+  int min_motion_matches = 20;        ///< below: widen the window once
+  int min_inliers_motion = 10;        ///< to accept the motion-model pose
+  int min_inliers_local = 30;         ///< to accept the frame as tracked
+  int max_local_keyframes = 80;
+  int max_frames_between_kf = 30;     ///< a keyframe at least this often (frames)
+  int min_frames_between_kf = 0;
+  double kf_ref_ratio = 0.75;         ///< new keyframe when tracked < ratio x reference's points
+  int kf_close_tracked_max = 100;     ///< ...or when few close points are tracked
+  int kf_close_untracked_min = 70;    ///< ...and many close points are not
+  int kf_min_new_points = 100;        ///< map points a new keyframe creates from depth, at least
+  int init_min_points = 500;          ///< keypoints with depth to initialise
+  /// Temporary visual-odometry points from the last frame's depth for the
+  /// motion model. Off by default: they chain each pose to the previous
+  /// estimate (drift) instead of the map; useful for map-less tracking only.
+  bool temporal_points = false;
+};
+
+enum class TrackingState { kNotInitialized, kOk, kLost };
+
+/// Receives new keyframes (the LocalMapper).
+class KeyFrameSink {
+ public:
+  virtual ~KeyFrameSink() = default;
+  virtual void insertKeyFrame(KeyFrame* kf) = 0;
+  /// True when the sink can take a keyframe now without queueing.
+  virtual bool idle() const = 0;
+  virtual std::size_t queued() const = 0;
+};
+
+struct TrackResult {
+  TrackingState state = TrackingState::kNotInitialized;
+  bool has_pose = false;
+  mrpt::poses::CPose3D pose_wc;
+  bool new_keyframe = false;
+  int inliers = 0;
+};
+
+class Tracker {
+ public:
+  Tracker(Map& map, KeyFrameSink& sink, const TrackerParams& params,
+          const PoseOptimizerParams& optim = {});
+  ~Tracker();
+
+  /// Tracks one frame. `features` must be finalised (FeatureSet::finalize).
+  TrackResult track(std::shared_ptr<const FeatureSet> features, std::size_t index,
+                    double timestamp);
+
+  TrackingState state() const { return state_; }
+
+  /// Camera-to-world pose of every tracked frame, recomputed from its
+  /// reference keyframe's current pose (so BA corrections reach the
+  /// trajectory). Untracked frames are absent.
+  struct FramePoseRecord {
+    std::size_t index;
+    double timestamp;
+    KeyFrame* ref_kf;
+    mrpt::poses::CPose3D rel;  ///< pose relative to ref_kf
+  };
+  const std::vector<FramePoseRecord>& records() const { return records_; }
+
+ private:
+  bool initialize();
+  bool trackWithMotionModel();
+  bool trackReferenceKeyFrame();
+  bool trackLocalMap();
+  int optimizeCurrentPose();
+  void updateLocalMap();
+  void searchLocalPoints();
+  bool needNewKeyFrame() const;
+  void createKeyFrame();
+  void updateLastFrame();
+  bool isInFrustum(MapPoint* mp, float view_cos_limit);
+
+  Map& map_;
+  KeyFrameSink& sink_;
+  TrackerParams p_;
+  PoseOptimizerParams optim_;
+  FeatureMatcher matcher_;
+
+  TrackingState state_ = TrackingState::kNotInitialized;
+  Frame cur_, last_;
+  long next_frame_id_ = 0;
+  bool velocity_valid_ = false;
+  mrpt::poses::CPose3D velocity_;
+  KeyFrame* ref_kf_ = nullptr;
+  KeyFrame* last_kf_ = nullptr;
+  long last_kf_frame_id_ = 0;
+  int inliers_ = 0;
+  std::vector<KeyFrame*> local_kfs_;
+  std::vector<MapPoint*> local_points_;
+  std::vector<std::unique_ptr<MapPoint>> temp_points_;
+  std::vector<FramePoseRecord> records_;
+};
+
+}  // namespace dynslam

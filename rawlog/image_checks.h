@@ -1,0 +1,31 @@
+#pragma once
+// Reading and checking the two images of an RGB-D frame, shared by every
+// FrameSource so that a TUM folder and a rawlog reject bad data with the same
+// messages (and the pipeline can rely on CV_8UC3 + CV_16UC1 of camera size).
+#include <opencv2/core.hpp>
+
+#include <string>
+
+#include "core/camera.h"
+
+namespace dynslam {
+
+/// cv::imread as 8-bit BGR; throws InputError(path) if missing or undecodable.
+cv::Mat readRgbImage(const std::string& path);
+
+/// cv::imread unchanged; throws InputError(path) if missing, undecodable or
+/// not 16-bit single-channel.
+cv::Mat readDepthImage(const std::string& path);
+
+/// Converts a decoded colour/grey 8-bit image to BGR (gray and BGRA allowed).
+/// Throws InputError(source) for other types.
+cv::Mat toBgr8(const cv::Mat& image, const std::string& source);
+
+/// Throws InputError(source) unless image is camera.width x camera.height.
+void checkImageSize(const cv::Mat& image, const PinholeCamera& camera,
+                    const std::string& source);
+
+/// "8-bit 3-channel", "16-bit 1-channel", ... for messages.
+std::string describeImageType(const cv::Mat& image);
+
+}  // namespace dynslam

@@ -1,0 +1,26 @@
+#pragma once
+// Where the pieces of a converted sequence live on disk. A rawlog written by
+// `dynslam convert` is a set of siblings, following MRPT's convention for
+// externally stored images (CRawlog::detectImagesDirectory):
+//
+//   OUT.rawlog               gz-compressed MRPT rawlog, "observations-only"
+//                            format: one CObservation3DRangeScan per RGB-D pair
+//   OUT_Images/              external data referenced by relative file names:
+//     rgb_NNNNNN_<tum name>.jpg|png   the original RGB file, byte for byte
+//     depth_NNNNNN_<tum stem>.bin     raw uint16 depth (MRPT CMatrix_u16 .bin)
+//   OUT_groundtruth.txt      copy of the TUM groundtruth.txt (only if the
+//                            sequence has one); TUM trajectory format
+//
+// Keeping images outside the rawlog keeps it small (kilobytes, not gigabytes)
+// and lets RGB be bit-exact copies of the original JPEG/PNG files.
+#include <string>
+
+namespace dynslam {
+
+/// "<dir>/<stem>_Images" for "<dir>/<stem>.rawlog".
+std::string rawlogImagesDir(const std::string& rawlog_path);
+
+/// "<dir>/<stem>_groundtruth.txt" for "<dir>/<stem>.rawlog".
+std::string rawlogGroundtruthPath(const std::string& rawlog_path);
+
+}  // namespace dynslam

@@ -1,0 +1,66 @@
+#include "rawlog/tum_folder_source.h"
+
+#include "core/atomic_file.h"
+#include "core/errors.h"
+#include "rawlog/image_checks.h"
+
+namespace dynslam {
+
+TumFolderSource::TumFolderSource(const std::string& folder,
+                                 const std::string& camera_config)
+    : folder_(folder) {
+  if (!isDirectory(folder)) {
+    throw InputError(folder, fileExists(folder) ? "is a file, expected a TUM sequence folder"
+                                                : "TUM sequence folder not found");
+  }
+  const std::string rgb_list = folder + "/rgb.txt";
+  const std::string depth_list = folder + "/depth.txt";
+  const auto rgb = readTumList(rgb_list);
+  const auto depth = readTumList(depth_list);
+
+  camera_ = loadCameraYaml(camera_config.empty() ? cameraConfigForSequence(folder)
+                                                 : camera_config);
+
+  const std::string gt = folder + "/groundtruth.txt";
+  if (fileExists(gt)) {
+    groundtruth_ = readTumTrajectory(gt);
+    groundtruth_path_ = gt;
+  }
+
+  pairs_ = associateTumLists(rgb, depth);
+  if (pairs_.empty()) {
+    throw InputError(folder, "no RGB-D pairs: no rgb.txt and depth.txt timestamps within 0.02 s");
+  }
+  // Missing files are found now rather than hundreds of frames into a run.
+  for (const auto& p : pairs_) {
+    if (!fileExists(folder + "/" + p.rgb.file))
+      throw InputError(rgb_list, p.rgb.line, "image '" + p.rgb.file + "' not found");
+    if (!fileExists(folder + "/" + p.depth.file))
+      throw InputError(depth_list, p.depth.line, "image '" + p.depth.file + "' not found");
+  }
+}
+
+std::string TumFolderSource::rgbPath(std::size_t i) const {
+  return folder_ + "/" + pairs_.at(i).rgb.file;
+}
+
+std::string TumFolderSource::depthPath(std::size_t i) const {
+  return folder_ + "/" + pairs_.at(i).depth.file;
+}
+
+RGBDFrame TumFolderSource::load(std::size_t i) const {
+  const TumPair& p = pairs_.at(i);
+  RGBDFrame f;
+  f.index = i;
+  f.timestamp = p.rgb.timestamp;
+  f.depth_timestamp = p.depth.timestamp;
+  f.rgb_source = rgbPath(i);
+  f.depth_source = depthPath(i);
+  f.rgb = readRgbImage(f.rgb_source);
+  checkImageSize(f.rgb, camera_, f.rgb_source);
+  f.depth = readDepthImage(f.depth_source);
+  checkImageSize(f.depth, camera_, f.depth_source);
+  return f;
+}
+
+}  // namespace dynslam

@@ -1,0 +1,54 @@
+// readTumList / tumPairTimestamps (declared in sequence_source.h) and the
+// associate.py pairing of the two lists.
+#include <cmath>
+
+#include "core/association.h"
+#include "core/atomic_file.h"
+#include "core/errors.h"
+#include "core/text_table.h"
+#include "rawlog/sequence_source.h"
+#include "rawlog/tum_folder_source.h"
+
+namespace dynslam {
+
+std::vector<TumListEntry> readTumList(const std::string& path) {
+  std::vector<TumListEntry> entries;
+  forEachDataLine(path, [&](const TextLine& line) {
+    if (line.size() != 2)
+      line.fail("expected 'timestamp filename', found " + std::to_string(line.size()) +
+                " fields");
+    const double t = line.number(0);
+    if (!std::isfinite(t) || t < 0) line.fail("timestamp '" + line.field(0) + "' is not valid");
+    if (!entries.empty() && !(t > entries.back().timestamp))
+      line.fail("timestamp " + line.field(0) + " is not after the previous one (line " +
+                std::to_string(entries.back().line) + ")");
+    entries.push_back({t, line.field(1), line.number()});
+  });
+  if (entries.empty()) throw InputError(path, "no entries (empty list)");
+  return entries;
+}
+
+std::vector<TumPair> associateTumLists(const std::vector<TumListEntry>& rgb,
+                                       const std::vector<TumListEntry>& depth) {
+  std::vector<double> trgb, tdepth;
+  trgb.reserve(rgb.size());
+  tdepth.reserve(depth.size());
+  for (const auto& e : rgb) trgb.push_back(e.timestamp);
+  for (const auto& e : depth) tdepth.push_back(e.timestamp);
+  std::vector<TumPair> pairs;
+  for (const auto& [i, j] : associateTimestamps(trgb, tdepth, 0.02))
+    pairs.push_back({rgb[i], depth[j]});
+  return pairs;
+}
+
+std::vector<double> tumPairTimestamps(const std::string& sequence_dir) {
+  if (!isDirectory(sequence_dir)) throw InputError(sequence_dir, "not a TUM sequence folder");
+  const auto pairs = associateTumLists(readTumList(sequence_dir + "/rgb.txt"),
+                                       readTumList(sequence_dir + "/depth.txt"));
+  std::vector<double> t;
+  t.reserve(pairs.size());
+  for (const auto& p : pairs) t.push_back(p.rgb.timestamp);
+  return t;
+}
+
+}  // namespace dynslam

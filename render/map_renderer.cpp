@@ -1,0 +1,131 @@
+#include "render/map_renderer.h"
+
+#include <mrpt/img/CImage.h>
+#include <mrpt/opengl/CFBORender.h>
+#include <mrpt/opengl/CFrustum.h>
+#include <mrpt/opengl/COpenGLScene.h>
+#include <mrpt/opengl/CPointCloudColoured.h>
+#include <mrpt/opengl/CSetOfLines.h>
+
+#include <cmath>
+#include <stdexcept>
+
+#include "render/offscreen_context.h"
+
+namespace dynslam {
+namespace {
+
+/// Rotation from MRPT's "+x forward" object frame (CFrustum) to the optical
+/// frame (+z forward, +x right, +y down): columns are the object axes
+/// (forward, left, up) in optical coordinates.
+mrpt::poses::CPose3D xForwardToOptical() {
+  mrpt::math::CMatrixDouble33 R;
+  R(0, 0) = 0;  R(0, 1) = -1; R(0, 2) = 0;
+  R(1, 0) = 0;  R(1, 1) = 0;  R(1, 2) = -1;
+  R(2, 0) = 1;  R(2, 1) = 0;  R(2, 2) = 0;
+  return mrpt::poses::CPose3D(R, mrpt::math::CVectorFixedDouble<3>::Zero());
+}
+
+}  // namespace
+
+MapRenderer::MapRenderer(RenderOptions options) : options_(options) {
+  if (options.width <= 0 || options.height <= 0 || options.width > 16384 ||
+      options.height > 16384) {
+    throw std::invalid_argument("render: image size must be 1..16384");
+  }
+  if (!(options.vertical_fov_deg > 1 && options.vertical_fov_deg < 170)) {
+    throw std::invalid_argument("render: vertical FOV must be in (1, 170) degrees");
+  }
+  if (!(options.point_size > 0)) throw std::invalid_argument("render: point size must be > 0");
+  context_ = std::make_unique<OffscreenContext>(options.width, options.height);
+  mrpt::opengl::CFBORender::Parameters p(options.width, options.height);
+  p.create_EGL_context = false;  // render into the OSMesa context made current above
+  fbo_ = std::make_unique<mrpt::opengl::CFBORender>(p);
+}
+
+MapRenderer::~MapRenderer() {
+  // The FBO's GL objects belong to our context: release them while current.
+  if (context_) context_->makeCurrent();
+  fbo_.reset();
+}
+
+PinholeCamera MapRenderer::intrinsics() const {
+  PinholeCamera cam;
+  cam.width = options_.width;
+  cam.height = options_.height;
+  cam.fy = 0.5 * options_.height / std::tan(0.5 * options_.vertical_fov_deg * M_PI / 180);
+  cam.fx = cam.fy;
+  cam.cx = 0.5 * options_.width;
+  cam.cy = 0.5 * options_.height;
+  cam.name = "render";
+  return cam;
+}
+
+mrpt::poses::CPose3D MapRenderer::cameraPose(const MapData& map, const ViewSpec& view) const {
+  if (view.kind == ViewSpec::Kind::kPose) return view.pose;
+  const PinholeCamera K = intrinsics();
+  const double hfov = 2 * std::atan(0.5 * K.width / K.fx);
+  const double vfov = 2 * std::atan(0.5 * K.height / K.fy);
+  return viewCameraPose(view, frameScene(map, options_.up), hfov, vfov);
+}
+
+cv::Mat MapRenderer::render(const MapData& map, const ViewSpec& view) {
+  return renderFromPose(map, cameraPose(map, view));
+}
+
+cv::Mat MapRenderer::renderFromPose(const MapData& map, const mrpt::poses::CPose3D& camera_pose) {
+  using namespace mrpt::opengl;
+  context_->makeCurrent();
+  COpenGLScene scene;
+  const auto& bg = options_.background;
+  scene.getViewport()->setCustomBackgroundColor(
+      {bg[0] / 255.f, bg[1] / 255.f, bg[2] / 255.f, 1.f});
+
+  auto cloud = CPointCloudColoured::Create();
+  cloud->enableVariablePointSize(false);
+  cloud->setPointSize(options_.point_size);
+  cloud->resize(map.points.size());
+  for (std::size_t i = 0; i < map.points.size(); ++i) {
+    const auto& p = map.points[i];
+    cloud->setPoint_fast(i, mrpt::math::TPointXYZfRGBAu8(p.x, p.y, p.z, p.r, p.g, p.b, 255));
+  }
+  scene.insert(cloud);
+
+  if (options_.draw_trajectory && map.keyframes.size() >= 2) {
+    auto lines = CSetOfLines::Create();
+    lines->setColor_u8(220, 20, 20);
+    lines->setLineWidth(2);
+    for (std::size_t i = 0; i + 1 < map.keyframes.size(); ++i) {
+      const auto& a = map.keyframes[i].pose;
+      const auto& b = map.keyframes[i + 1].pose;
+      lines->appendLine(a.x(), a.y(), a.z(), b.x(), b.y(), b.z());
+    }
+    scene.insert(lines);
+  }
+  if (options_.draw_frustums && !map.keyframes.empty()) {
+    double depth = options_.frustum_depth;
+    if (depth <= 0) depth = 0.06 * frameScene(map, options_.up).radius;
+    const auto to_optical = xForwardToOptical();
+    for (const auto& kf : map.keyframes) {
+      // 4:3 Kinect-like frustum (62 x 48 degrees).
+      auto f = CFrustum::Create(0.f, float(depth), 62.f, 48.f, 2.f, true, false);
+      f->setColor_u8(30, 60, 220);
+      f->setPose(kf.pose + to_optical);
+      scene.insert(f);
+    }
+  }
+
+  const PinholeCamera K = intrinsics();
+  auto& cam = fbo_->getCamera(scene);
+  cam.setProjectiveFromPinhole(K.toMrpt());
+  cam.set6DOFMode(true);
+  cam.setPose(camera_pose);
+
+  mrpt::img::CImage img;
+  fbo_->render_RGB(scene, img);
+  cv::Mat out = img.asCvMat<cv::Mat>(mrpt::img::DEEP_COPY);
+  if (out.type() != CV_8UC3) throw std::runtime_error("render: unexpected image type");
+  return out;
+}
+
+}  // namespace dynslam

@@ -1,0 +1,148 @@
+// Depth-based masks (box depth mask, region growing) on synthetic depth, and
+// the keypoint scoring helper on a hand-made ground-truth mask.
+#include <gtest/gtest.h>
+
+#include <opencv2/imgproc.hpp>
+
+#include <cmath>
+
+#include "dynamic/depth_masks.h"
+#include "dynamic/mask_scoring.h"
+
+using namespace dynslam;
+
+namespace {
+
+constexpr double kScale = 5000;  // TUM raw units per metre
+
+Detection personBox(const cv::Rect2f& r, bool dynamic = true) {
+  Detection d;
+  d.box = r;
+  d.class_id = dynamic ? 0 : 56;
+  d.score = 0.9f;
+  d.dynamic_class = dynamic;
+  return d;
+}
+
+// 3.0 m wall with +-1 cm noise and some holes; a person-like shape at 1.2 m
+// (torso ellipse, head circle, arm bar) inside a box that also shows the wall.
+void personScene(cv::Mat& depth, cv::Mat& object) {
+  depth = cv::Mat(240, 320, CV_16U);
+  cv::RNG rng(3);
+  for (int y = 0; y < depth.rows; ++y)
+    for (int x = 0; x < depth.cols; ++x)
+      depth.at<uint16_t>(y, x) = uint16_t((3.0 + rng.uniform(-0.01, 0.01)) * kScale);
+  object = cv::Mat(depth.size(), CV_8U, cv::Scalar(0));
+  cv::ellipse(object, cv::Point(160, 140), cv::Size(35, 60), 0, 0, 360, cv::Scalar(255),
+              cv::FILLED);
+  cv::circle(object, cv::Point(160, 65), 18, cv::Scalar(255), cv::FILLED);
+  cv::rectangle(object, cv::Rect(190, 110, 50, 12), cv::Scalar(255), cv::FILLED);
+  for (int y = 0; y < depth.rows; ++y)
+    for (int x = 0; x < depth.cols; ++x)
+      if (object.at<uint8_t>(y, x))  // the body curves 10 cm front to back
+        depth.at<uint16_t>(y, x) = uint16_t((1.2 + 0.1 * std::abs(x - 160) / 35.0) * kScale);
+  depth(cv::Rect(10, 10, 20, 20)).setTo(0);  // holes: never flagged
+  depth(cv::Rect(130, 180, 6, 6)).setTo(0);
+}
+
+}  // namespace
+
+TEST(BoxDepthMasker, FlagsOnlyTheObjectInsideTheBox) {
+  cv::Mat depth, object;
+  personScene(depth, object);
+  const cv::Rect2f box(120, 45, 125, 160);  // head to feet, arm included, lots of wall
+  std::vector<float> z;
+  const cv::Mat mask = BoxDepthMasker().computeFromBoxes(depth, kScale, {personBox(box)}, &z);
+  ASSERT_EQ(mask.type(), CV_8UC1);
+  ASSERT_EQ(z.size(), 1u);
+  EXPECT_NEAR(z[0], 1.22, 0.05);
+
+  cv::Mat expected = object.clone();
+  expected.setTo(0, depth == 0);
+  EXPECT_EQ(cv::countNonZero(mask & ~expected), 0) << "wall pixels flagged";
+  EXPECT_EQ(cv::countNonZero(expected & ~mask), 0) << "object pixels missed";
+}
+
+TEST(BoxDepthMasker, IgnoresNonDynamicClassesAndEmptyDepth) {
+  cv::Mat depth, object;
+  personScene(depth, object);
+  const cv::Rect2f box(120, 45, 125, 160);
+  std::vector<float> z;
+  EXPECT_EQ(cv::countNonZero(
+                BoxDepthMasker().computeFromBoxes(depth, kScale, {personBox(box, false)}, &z)),
+            0);
+  EXPECT_EQ(z.at(0), 0.f);
+  const cv::Mat none(240, 320, CV_16U, cv::Scalar(0));
+  EXPECT_EQ(cv::countNonZero(BoxDepthMasker().computeFromBoxes(none, kScale, {personBox(box)}, &z)),
+            0);
+  EXPECT_EQ(z.at(0), 0.f);
+}
+
+// The object covers a bit under half of the box centre: the nearest strong
+// depth peak (the person in front) still wins over the wall behind.
+TEST(BoxDepthMasker, PrefersTheNearPeak) {
+  cv::Mat depth(200, 200, CV_16U, cv::Scalar(2.5 * kScale));
+  depth(cv::Rect(60, 20, 45, 160)).setTo(1.5 * kScale);  // 45 % of the central 100 px
+  const float z = BoxDepthMasker().objectDepth(depth, kScale, cv::Rect(0, 0, 200, 200));
+  EXPECT_NEAR(z, 1.5, 0.03);
+}
+
+TEST(DepthRegionGrower, GrowsOverTheObjectNotAcrossDepthSteps) {
+  cv::Mat depth, object;
+  personScene(depth, object);
+  DepthRegionGrower grower;  // min_seeds = 2
+  // Two seeds on the torso grow over the whole person (arm and head join it).
+  const cv::Mat mask = grower.grow(depth, kScale, {{160, 140}, {150, 170}});
+  cv::Mat expected = object.clone();
+  expected.setTo(0, depth == 0);
+  EXPECT_EQ(cv::countNonZero(mask & ~expected), 0);
+  EXPECT_EQ(cv::countNonZero(expected & ~mask), 0);
+  // A single seed (an outlier keypoint) flags nothing.
+  EXPECT_EQ(cv::countNonZero(grower.grow(depth, kScale, {{160, 140}})), 0);
+  // Two seeds on the wall: the wall is grown, up to the region size cap.
+  const cv::Mat wall = grower.grow(depth, kScale, {{20, 200}, {40, 220}});
+  EXPECT_EQ(cv::countNonZero(wall & object), 0);
+  EXPECT_LE(cv::countNonZero(wall), int(0.25 * 320 * 240) + 4);
+  EXPECT_GT(cv::countNonZero(wall), int(0.2 * 320 * 240));
+}
+
+TEST(MaskScoring, CountsAgainstAHandMadeMask) {
+  // 40x20 mask: walker 1 at x 2..13, person 2 standing still (130) at
+  // x 26..35, both rows 2..17; static in between (x 17..22 is >= 3 px from both).
+  cv::Mat gt(20, 40, CV_8U, cv::Scalar(0));
+  gt(cv::Rect(2, 2, 12, 16)).setTo(1);
+  gt(cv::Rect(26, 2, 10, 16)).setTo(130);
+  const std::vector<cv::Point2f> pts = {
+      {7, 9},    // walker core (5 px from the nearest edge)  flagged     -> TP
+      {8, 10},   // walker core                               not flagged -> miss
+      {5, 5},    // walker, exactly 3 px inside: core         flagged     -> TP
+      {3, 9},    // walker, 1 px inside: boundary             flagged
+      {15, 9},   // static, 2 px from the walker: boundary
+      {30, 10},  // standing core                             flagged
+      {31, 9},   // standing core                             not flagged
+      {19, 0},   // static                                    flagged     -> false rejection
+      {20, 19},  // static                                    not flagged
+      {24, 5},   // static, 2 px from the standing person: boundary
+      {-1, 5},   // outside the image: skipped
+  };
+  const std::vector<uint8_t> flags = {1, 0, 1, 1, 0, 1, 0, 1, 0, 0, 1};
+  const MaskScore s = scoreKeypoints(pts, flags, gt);
+  EXPECT_EQ(s.walker_points, 3);
+  EXPECT_EQ(s.walker_flagged, 2);
+  EXPECT_EQ(s.standing_points, 2);
+  EXPECT_EQ(s.standing_flagged, 1);
+  EXPECT_EQ(s.static_points, 2);
+  EXPECT_EQ(s.static_flagged, 1);
+  EXPECT_EQ(s.boundary_points, 3);
+  EXPECT_EQ(s.boundary_flagged, 1);
+  EXPECT_DOUBLE_EQ(s.recall(), 2.0 / 3.0);
+  EXPECT_DOUBLE_EQ(s.falseRejectionRate(), 0.5);
+  EXPECT_DOUBLE_EQ(s.standingRejectionRate(), 0.5);
+
+  MaskScore sum = s;
+  sum += s;
+  EXPECT_EQ(sum.walker_points, 6);
+  EXPECT_DOUBLE_EQ(sum.recall(), 2.0 / 3.0);
+  EXPECT_TRUE(std::isnan(MaskScore().recall()));
+  EXPECT_THROW(scoreKeypoints(pts, {1, 0}, gt), std::invalid_argument);
+}
