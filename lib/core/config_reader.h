@@ -6,6 +6,8 @@
 #include <mrpt/containers/yaml.h>
 
 #include <set>
+#include <stdexcept>
+#include <type_traits>
 #include <string>
 
 #include "core/errors.h"
@@ -21,10 +23,22 @@ class ConfigSection {
   ConfigSection& read(const std::string& key, T& value) {
     known_.insert(key);
     if (!has(key)) return *this;
+    const std::string where = section_.empty() ? key : section_ + "." + key;
     try {
-      value = node_[key].as<T>();
+      if constexpr (std::is_same_v<T, bool>) {
+        const std::string v = node_[key].as<std::string>();
+        if (v == "true" || v == "false") value = (v == "true");
+        else throw std::invalid_argument(v);
+      } else if constexpr (std::is_integral_v<T>) {
+        // yaml::as<int> would silently truncate 2.5 to 2.
+        const double v = node_[key].as<double>();
+        if (v != static_cast<double>(static_cast<T>(v))) throw std::invalid_argument("not integral");
+        value = static_cast<T>(v);
+      } else {
+        value = node_[key].as<T>();
+      }
     } catch (const std::exception&) {
-      throw InputError(file_, section_ + "." + key + ": wrong type or value");
+      throw InputError(file_, where + ": wrong type or value");
     }
     return *this;
   }

@@ -3,6 +3,7 @@
 #include <mrpt/math/CQuaternion.h>
 
 #include <Eigen/Geometry>
+#include <Eigen/SVD>
 
 namespace dynslam {
 
@@ -11,7 +12,11 @@ mrpt::poses::CPose3D orthonormalized(const mrpt::poses::CPose3D& p) {
   Eigen::Matrix3d M;
   for (int r = 0; r < 3; ++r)
     for (int c = 0; c < 3; ++c) M(r, c) = R(r, c);
-  Eigen::Quaterniond q(M);
+  // Nearest rotation in the Frobenius sense: U diag(1, 1, det(U V^T)) V^T.
+  Eigen::JacobiSVD<Eigen::Matrix3d> svd(M, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  Eigen::Matrix3d D = Eigen::Matrix3d::Identity();
+  D(2, 2) = (svd.matrixU() * svd.matrixV().transpose()).determinant() < 0 ? -1.0 : 1.0;
+  Eigen::Quaterniond q(svd.matrixU() * D * svd.matrixV().transpose());
   q.normalize();
   return mrpt::poses::CPose3D(mrpt::math::CQuaternionDouble(q.w(), q.x(), q.y(), q.z()), p.x(),
                               p.y(), p.z());

@@ -7,6 +7,32 @@
 
 namespace dynslam {
 
+double depthAt(const cv::Mat& depth_raw, const cv::Point2f& pt, int window, double max_spread) {
+  const int u = static_cast<int>(std::lround(pt.x));
+  const int v = static_cast<int>(std::lround(pt.y));
+  if (u < 0 || v < 0 || u >= depth_raw.cols || v >= depth_raw.rows) return 0;
+  const uint16_t d = depth_raw.at<uint16_t>(v, u);
+  if (d == 0 || window <= 1) return d;
+  // Corners often sit on object boundaries, where the depth pixel may belong
+  // to the foreground or the background: such a depth is no measurement of
+  // the corner. Keep it only if the neighbourhood agrees.
+  const int h = window / 2;
+  int lo = d, hi = d, valid = 0, total = 0;
+  for (int y = std::max(0, v - h); y <= std::min(depth_raw.rows - 1, v + h); ++y) {
+    const uint16_t* row = depth_raw.ptr<uint16_t>(y);
+    for (int x = std::max(0, u - h); x <= std::min(depth_raw.cols - 1, u + h); ++x) {
+      ++total;
+      if (row[x] == 0) continue;
+      ++valid;
+      lo = std::min<int>(lo, row[x]);
+      hi = std::max<int>(hi, row[x]);
+    }
+  }
+  if (valid * 4 < total * 3) return 0;  // mostly holes: edge or reflective surface
+  if (hi - lo > max_spread * d) return 0;
+  return d;
+}
+
 std::vector<int> FeatureSet::featuresInArea(float x, float y, float r, int min_level,
                                             int max_level) const {
   std::vector<int> out;
@@ -57,13 +83,10 @@ void FeatureSet::finalize(const cv::Mat& depth_raw, const cv::Mat& rgb) {
   if (dynamic.size() != n) dynamic.assign(n, 0);
   const double inv_scale = 1.0 / c.camera.depth_scale;
   for (std::size_t i = 0; i < n; ++i) {
-    const int u = static_cast<int>(std::lround(keys[i].pt.x));
-    const int v = static_cast<int>(std::lround(keys[i].pt.y));
-    if (u < 0 || v < 0 || u >= depth_raw.cols || v >= depth_raw.rows) continue;
-    const uint16_t d = depth_raw.at<uint16_t>(v, u);
-    if (d == 0) continue;
-    depth[i] = static_cast<float>(d * inv_scale);
-    ur[i] = static_cast<float>(keys_un[i].pt.x - c.proj.bf / depth[i]);
+    const double d = depthAt(depth_raw, keys[i].pt, c.depth_edge_window, c.depth_edge_ratio) * inv_scale;
+    if (d <= 0) continue;
+    depth[i] = static_cast<float>(d);
+    ur[i] = static_cast<float>(keys_un[i].pt.x - c.proj.bf / d);
   }
   grid.assign(static_cast<std::size_t>(c.grid_cols * c.grid_rows), {});
   for (std::size_t i = 0; i < n; ++i) {

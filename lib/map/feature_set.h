@@ -12,6 +12,11 @@
 
 namespace dynslam {
 
+/// Raw depth at a keypoint (0 = none). With window > 1, the depth is dropped
+/// when the window x window neighbourhood is mostly holes or spans more than
+/// max_spread x depth (a depth discontinuity).
+double depthAt(const cv::Mat& depth_raw, const cv::Point2f& pt, int window, double max_spread);
+
 struct FeatureSet {
   std::shared_ptr<const FrameContext> ctx;
   std::vector<cv::KeyPoint> keys;     ///< as detected (distorted image)

@@ -18,6 +18,10 @@ struct FrameContext {
   cv::Mat K, dist;       ///< OpenCV forms of the intrinsics
   /// Keypoints closer than this (m) have a reliable depth: "close" points.
   double close_depth = 3.0;
+  /// Keypoint depths are kept only where the depth_edge_window^2 neighbourhood
+  /// varies by at most depth_edge_ratio x depth (1: no check).
+  int depth_edge_window = 5;
+  double depth_edge_ratio = 0.05;
 
   // Undistorted image bounds and the search grid over them.
   float min_x = 0, max_x = 0, min_y = 0, max_y = 0;

@@ -278,6 +278,7 @@ void LocalMapper::bundleAdjust(KeyFrame* kf) {
     std::vector<KeyFrame*> local = {kf};
     kf->ba_local_kf = kf->id;
     for (KeyFrame* n : kf->orderedCovisibles()) {
+      if (static_cast<int>(local.size()) >= p_.ba_window) break;
       if (n->bad) continue;
       n->ba_local_kf = kf->id;
       local.push_back(n);
@@ -289,13 +290,20 @@ void LocalMapper::bundleAdjust(KeyFrame* kf) {
         pts.push_back(mp);
       }
     }
+    // Fixed keyframes: those sharing the most local points (they anchor the gauge).
+    std::map<KeyFrame*, int, KeyFrameIdLess> shared;
+    for (MapPoint* mp : pts)
+      for (auto& [o, idx] : mp->obs)
+        if (!o->bad && o->ba_local_kf != kf->id) shared[o]++;
+    std::vector<std::pair<int, KeyFrame*>> by_shared;
+    for (auto& [o, n] : shared) by_shared.emplace_back(n, o);
+    std::stable_sort(by_shared.begin(), by_shared.end(),
+                     [](const auto& a, const auto& b) { return a.first > b.first; });
     std::vector<KeyFrame*> fixed;
-    for (MapPoint* mp : pts) {
-      for (auto& [o, idx] : mp->obs) {
-        if (o->bad || o->ba_local_kf == kf->id || o->ba_fixed_kf == kf->id) continue;
-        o->ba_fixed_kf = kf->id;
-        fixed.push_back(o);
-      }
+    for (auto& [n, o] : by_shared) {
+      if (static_cast<int>(fixed.size()) >= p_.ba_max_fixed) break;
+      o->ba_fixed_kf = kf->id;
+      fixed.push_back(o);
     }
     std::map<const KeyFrame*, int> kf_index;
     for (KeyFrame* k : local) {

@@ -28,6 +28,12 @@ struct LocalMapperParams {
   double redundant_ratio = 0.9;       ///< keyframe culled when this share of its points is seen elsewhere
   int redundant_observers = 3;        ///< ...by at least this many other keyframes
   bool local_ba = true;
+  /// Local BA window: the new keyframe and its most covisible neighbours.
+  /// In rotation-heavy sequences every keyframe is covisible with every
+  /// other, and an unbounded window makes BA cost grow with the map.
+  int ba_window = 20;
+  /// Keyframes outside the window that observe its points, held fixed (at most).
+  int ba_max_fixed = 30;
   BAParams ba;
   /// Culls a map point once it has matched keypoints flagged dynamic this many times.
   int dynamic_cull_hits = 2;

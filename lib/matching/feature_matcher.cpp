@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <climits>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 
 #include <Eigen/Dense>
 
@@ -89,16 +91,19 @@ int FeatureMatcher::searchByProjection(Frame& cur, const std::vector<MapPoint*>&
   const FeatureSet& cf = cur.f();
   const FrameContext& ctx = *cf.ctx;
   int n = 0;
+  int no_cand = 0, too_far = 0, ratio_fail = 0, all_taken = 0;
   for (MapPoint* mp : points) {
     if (!mp->track_in_view || mp->bad) continue;
     const int level = mp->pred_level;
     const float r = th * (mp->view_cos > 0.998f ? 2.5f : 4.0f) * ctx.scale[level];
     const auto cand = cf.featuresInArea(mp->proj_x, mp->proj_y, r, level - 1, level);
-    if (cand.empty()) continue;
+    if (cand.empty()) { ++no_cand; continue; }
     const uint8_t* d = mp->descriptor.ptr<uint8_t>();
     int best = INT_MAX, second = INT_MAX, best_idx = -1, best_level = -1, second_level = -1;
+    int free = 0;
     for (int j : cand) {
       if (cur.points[j] && cur.points[j]->nObs() > 0) continue;
+      ++free;
       if (cf.ur[j] >= 0 && std::abs(mp->proj_ur - cf.ur[j]) > r) continue;
       const int dist = descriptorDistance(d, cf.descriptor(j));
       if (dist < best) {
@@ -112,11 +117,15 @@ int FeatureMatcher::searchByProjection(Frame& cur, const std::vector<MapPoint*>&
         second_level = cf.keys_un[j].octave;
       }
     }
-    if (best > p_.th_high) continue;
-    if (best_level == second_level && best > p_.nn_ratio * second) continue;
+    if (free == 0) { ++all_taken; continue; }
+    if (best > p_.th_high) { ++too_far; continue; }
+    if (best_level == second_level && best > p_.nn_ratio * second) { ++ratio_fail; continue; }
     cur.points[best_idx] = mp;
     ++n;
   }
+  if (std::getenv("DYNSLAM_DEBUG_MATCHING"))
+    std::fprintf(stderr, "[match] local: %d matched, %d no candidate, %d all taken, %d descriptor too far, %d ratio\n",
+                 n, no_cand, all_taken, too_far, ratio_fail);
   return n;
 }
 

@@ -18,6 +18,8 @@ SlamSystem::SlamSystem(const SlamConfig& config, const PinholeCamera& camera)
   const double close =
       cfg_.system.close_depth > 0 ? cfg_.system.close_depth : 40.0 * cfg_.system.bf / camera.fx;
   ctx_->init(camera, cfg_.system.bf, close, cfg_.orb.n_levels, cfg_.orb.scale_factor);
+  ctx_->depth_edge_window = cfg_.system.depth_edge_window;
+  ctx_->depth_edge_ratio = cfg_.system.depth_edge_ratio;
   mapper_ = std::make_unique<LocalMapper>(map_, cfg_.mapper, !cfg_.system.deterministic);
   tracker_ = std::make_unique<Tracker>(map_, *mapper_, cfg_.tracker, cfg_.pose_optimizer);
 }

@@ -16,6 +16,8 @@ SlamConfig loadSlamConfig(const std::string& path) {
   s.read("deterministic", c.system.deterministic)
       .read("bf", c.system.bf)
       .read("close_depth", c.system.close_depth)
+      .read("depth_edge_window", c.system.depth_edge_window)
+      .read("depth_edge_ratio", c.system.depth_edge_ratio)
       .read("prefetch_frames", c.system.prefetch_frames);
   s.rejectUnknownKeys();
 
@@ -64,6 +66,8 @@ SlamConfig loadSlamConfig(const std::string& path) {
       .read("redundant_ratio", m.redundant_ratio)
       .read("redundant_observers", m.redundant_observers)
       .read("local_ba", m.local_ba)
+      .read("ba_window", m.ba_window)
+      .read("ba_max_fixed", m.ba_max_fixed)
       .read("dynamic_cull_hits", m.dynamic_cull_hits);
   ConfigSection ba = lm.sub("bundle_adjustment");
   ba.read("iterations_first", m.ba.iterations_first)

@@ -20,6 +20,10 @@ struct SystemParams {
   /// Depth (m) below which a keypoint's depth is trusted ("close" point).
   /// 0: 40 x bf / fx (ORB-SLAM's convention, about 3.1 m for a Kinect).
   double close_depth = 0.0;
+  /// Keypoint depth kept only where the window x window neighbourhood spans at
+  /// most depth_edge_ratio x depth (corners on depth edges get no depth).
+  int depth_edge_window = 5;
+  double depth_edge_ratio = 0.05;
   /// Frames decoded ahead of tracking by a reader thread (0: none).
   int prefetch_frames = 4;
 };
