@@ -25,13 +25,31 @@ const std::vector<Subcommand>& subcommands() {
   return cmds;
 }
 
-bool parseArguments(TCLAP::CmdLine& cmd, int argc, char** argv, int& exit_code) {
-  if (cmd.parse(argc, argv)) return true;
-  exit_code = kUsage;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (a == "-h" || a == "--help" || a == "--version") exit_code = kOk;
+namespace {
+/// TCLAP's usual output, except that a parse error is one "PROG: error: ..."
+/// line plus a hint, and is remembered: MRPT's TCLAP returns false from
+/// parse() both after --help and after an error.
+class ArgumentOutput : public TCLAP::StdOutput {
+ public:
+  void failure(TCLAP::CmdLineInterface& c, TCLAP::ArgException& e) override {
+    failed = true;
+    std::string id = e.argId();  // "Argument: (--x, --name)" or blank
+    if (id.find_first_not_of(' ') == std::string::npos) id.clear();
+    std::fprintf(stderr, "%s: error: %s%s%s\nrun '%s --help' for usage\n",
+                 c.getProgramName().c_str(), e.error().c_str(), id.empty() ? "" : " - ",
+                 id.c_str(), c.getProgramName().c_str());
   }
+  bool failed = false;
+};
+}  // namespace
+
+bool parseArguments(TCLAP::CmdLine& cmd, int argc, char** argv, int& exit_code) {
+  ArgumentOutput output;
+  cmd.setOutput(&output);
+  const bool ok = cmd.parse(argc, argv);
+  cmd.setOutput(nullptr);
+  if (ok) return true;
+  exit_code = output.failed ? kUsage : kOk;  // error, or --help / --version done
   return false;
 }
 

@@ -9,23 +9,6 @@
 
 namespace dynslam::cli {
 
-namespace {
-/// TCLAP's output, but a parse error is one "PROG: error: ..." line + a hint,
-/// and remembered so that the exit code can tell it from --help.
-class ConvertOutput : public TCLAP::StdOutput {
- public:
-  void failure(TCLAP::CmdLineInterface& c, TCLAP::ArgException& e) override {
-    failed = true;
-    std::string id = e.argId();  // "Argument: (--x, --name)" or blank
-    if (id.find_first_not_of(' ') == std::string::npos) id.clear();
-    std::fprintf(stderr, "%s: error: %s%s%s\nrun '%s --help' for usage\n",
-                 c.getProgramName().c_str(), e.error().c_str(), id.empty() ? "" : " - ",
-                 id.c_str(), c.getProgramName().c_str());
-  }
-  bool failed = false;
-};
-}  // namespace
-
 int convertMain(int argc, char** argv) {
   TCLAP::CmdLine cmd(
       "Converts a TUM RGB-D sequence folder (rgb.txt, depth.txt, rgb/, depth/, optional "
@@ -54,9 +37,8 @@ int convertMain(int argc, char** argv) {
       "LABEL", cmd);
   TCLAP::SwitchArg quiet("q", "quiet", "no progress line and no summary", cmd);
 
-  ConvertOutput output;
-  cmd.setOutput(&output);
-  if (!cmd.parse(argc, argv)) return output.failed ? kUsage : kOk;  // error or --help
+  int exit_code = kOk;
+  if (!parseArguments(cmd, argc, argv, exit_code)) return exit_code;
   if (max_frames.isSet() && max_frames.getValue() < 1) {
     std::fprintf(stderr, "%s: error: --max-frames must be at least 1\n", argv[0]);
     return kUsage;

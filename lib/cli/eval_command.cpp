@@ -14,17 +14,6 @@
 namespace dynslam::cli {
 namespace {
 
-// MRPT's TCLAP returns false from parse() both for --help and for errors;
-// this output remembers which one it was.
-class EvalOutput : public TCLAP::StdOutput {
- public:
-  void failure(TCLAP::CmdLineInterface& c, TCLAP::ArgException& e) override {
-    failed = true;
-    TCLAP::StdOutput::failure(c, e);
-  }
-  bool failed = false;
-};
-
 constexpr const char* kDescription =
     "Accuracy of an estimated camera trajectory against groundtruth, with the TUM RGB-D "
     "benchmark's conventions: ATE (evaluate_ate.py: associate.py timestamp association, "
@@ -37,8 +26,6 @@ constexpr const char* kDescription =
 
 int evalMain(int argc, char** argv) {
   TCLAP::CmdLine cmd(kDescription, ' ', DYNSLAM_VERSION);
-  EvalOutput output;
-  cmd.setOutput(&output);
   TCLAP::UnlabeledValueArg<std::string> gt_arg(
       "groundtruth", "groundtruth trajectory (TUM format, e.g. SEQ/groundtruth.txt)", true, "",
       "GROUNDTRUTH", cmd);
@@ -57,7 +44,8 @@ int evalMain(int argc, char** argv) {
       "maximum |dt| in seconds when associating estimate with groundtruth (ATE) and with the "
       "sequence's frames (coverage); default 0.02 as associate.py",
       false, kDefaultMaxDt, "SECONDS", cmd);
-  if (!cmd.parse(argc, argv)) return output.failed ? kUsage : kOk;
+  int exit_code = kOk;
+  if (!parseArguments(cmd, argc, argv, exit_code)) return exit_code;
   if (!(max_dt_arg.getValue() > 0)) {
     std::fprintf(stderr, "%s: error: --max-dt must be positive\n", argv[0]);
     return kUsage;

@@ -17,16 +17,6 @@
 namespace dynslam::cli {
 namespace {
 
-// MRPT's TCLAP returns false from parse() both for --help and for errors.
-class ExportOutput : public TCLAP::StdOutput {
- public:
-  void failure(TCLAP::CmdLineInterface& c, TCLAP::ArgException& e) override {
-    failed = true;
-    TCLAP::StdOutput::failure(c, e);
-  }
-  bool failed = false;
-};
-
 constexpr const char* kDescription =
     "Dense static map of a finished run: every keyframe of RUN_DIR/keyframes.txt (final, "
     "loop-corrected poses) is looked up in the run's input sequence (run_info.yaml 'input:'), "
@@ -41,8 +31,6 @@ constexpr const char* kDescription =
 
 int exportMain(int argc, char** argv) {
   TCLAP::CmdLine cmd(kDescription, ' ', DYNSLAM_VERSION);
-  ExportOutput output;
-  cmd.setOutput(&output);
   TCLAP::UnlabeledValueArg<std::string> run_arg(
       "run_dir", "output folder of `dynslam run` (keyframes.txt, run_info.yaml)", true, "",
       "RUN_DIR", cmd);
@@ -68,7 +56,8 @@ int exportMain(int argc, char** argv) {
                                   5, "PX", cmd);
   TCLAP::SwitchArg no_outliers_arg("", "no-outlier-removal",
                                    "skip statistical outlier removal (faster)", cmd, false);
-  if (!cmd.parse(argc, argv)) return output.failed ? kUsage : kOk;
+  int exit_code = kOk;
+  if (!parseArguments(cmd, argc, argv, exit_code)) return exit_code;
 
   mapFormatFromPath(out_arg.getValue());  // bad extension: fail before any work
   DenseMapOptions options;

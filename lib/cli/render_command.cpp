@@ -18,15 +18,6 @@
 namespace dynslam::cli {
 namespace {
 
-class RenderOutput : public TCLAP::StdOutput {
- public:
-  void failure(TCLAP::CmdLineInterface& c, TCLAP::ArgException& e) override {
-    failed = true;
-    TCLAP::StdOutput::failure(c, e);
-  }
-  bool failed = false;
-};
-
 constexpr const char* kDescription =
     "Off-screen snapshot (PNG) of a map written by `dynslam export`: coloured points, the "
     "keyframe trajectory (red) and keyframe frustums (blue). Needs no display or GPU (Mesa "
@@ -53,8 +44,6 @@ std::array<double, 3> parseTriple(const std::string& text, const std::string& wh
 
 int renderMain(int argc, char** argv) {
   TCLAP::CmdLine cmd(kDescription, ' ', DYNSLAM_VERSION);
-  RenderOutput output;
-  cmd.setOutput(&output);
   TCLAP::UnlabeledValueArg<std::string> map_arg("map", "map file (.ply or .glb)", true, "",
                                                 "MAP", cmd);
   TCLAP::ValueArg<std::string> out_arg("o", "output", "PNG file to write", true, "", "OUT.png",
@@ -85,7 +74,8 @@ int renderMain(int argc, char** argv) {
                                    false);
   TCLAP::SwitchArg no_traj_arg("", "no-trajectory", "do not draw the trajectory line", cmd,
                                false);
-  if (!cmd.parse(argc, argv)) return output.failed ? kUsage : kOk;
+  int exit_code = kOk;
+  if (!parseArguments(cmd, argc, argv, exit_code)) return exit_code;
 
   RenderOptions o;
   o.width = width_arg.getValue();

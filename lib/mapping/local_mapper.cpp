@@ -115,7 +115,7 @@ void LocalMapper::processKeyFrame(KeyFrame* kf) {
   }
   // Like ORB-SLAM, skip BA and culling when keyframes are piling up: the next
   // keyframe's BA covers this window anyway.
-  if (!more_waiting) {
+  if (!more_waiting || !p_.skip_ba_when_busy) {
     if (p_.local_ba && map_.keyFrameCount() > 2) bundleAdjust(kf);
     std::lock_guard<std::mutex> lk(map_.mutex());
     cullKeyFrames(kf);

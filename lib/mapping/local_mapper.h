@@ -28,6 +28,9 @@ struct LocalMapperParams {
   double redundant_ratio = 0.9;       ///< keyframe culled when this share of its points is seen elsewhere
   int redundant_observers = 3;        ///< ...by at least this many other keyframes
   bool local_ba = true;
+  /// Skip BA and keyframe culling for a keyframe when another one is already
+  /// waiting (ORB-SLAM's behaviour; keeps the mapper from falling behind).
+  bool skip_ba_when_busy = true;
   /// Local BA window: the new keyframe and its most covisible neighbours.
   /// In rotation-heavy sequences every keyframe is covisible with every
   /// other, and an unbounded window makes BA cost grow with the map.

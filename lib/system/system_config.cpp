@@ -67,6 +67,7 @@ SlamConfig loadSlamConfig(const std::string& path) {
       .read("redundant_observers", m.redundant_observers)
       .read("local_ba", m.local_ba)
       .read("ba_window", m.ba_window)
+      .read("skip_ba_when_busy", m.skip_ba_when_busy)
       .read("ba_max_fixed", m.ba_max_fixed)
       .read("dynamic_cull_hits", m.dynamic_cull_hits);
   ConfigSection ba = lm.sub("bundle_adjustment");
