@@ -15,6 +15,20 @@ bool ConfigSection::has(const std::string& key) const {
   return !node_.isNullNode() && node_.isMap() && node_.has(key);
 }
 
+ConfigSection& ConfigSection::readList(const std::string& key, std::vector<std::string>& value) {
+  known_.insert(key);
+  if (!has(key)) return *this;
+  const std::string where = section_.empty() ? key : section_ + "." + key;
+  try {
+    std::vector<std::string> out;
+    for (const auto& v : node_[key].asSequence()) out.push_back(v.as<std::string>());
+    value = std::move(out);
+  } catch (const std::exception&) {
+    throw InputError(file_, where + ": expected a list of strings");
+  }
+  return *this;
+}
+
 ConfigSection ConfigSection::sub(const std::string& key) {
   known_.insert(key);
   if (!has(key)) return ConfigSection(mrpt::containers::yaml(), file_, section_ + "." + key);

@@ -9,6 +9,7 @@
 #include <stdexcept>
 #include <type_traits>
 #include <string>
+#include <vector>
 
 #include "core/errors.h"
 
@@ -42,6 +43,8 @@ class ConfigSection {
     }
     return *this;
   }
+  /// A list of strings ("[a, b]" or a YAML sequence).
+  ConfigSection& readList(const std::string& key, std::vector<std::string>& value);
   /// Sub-section (missing = empty).
   ConfigSection sub(const std::string& key);
   bool has(const std::string& key) const;

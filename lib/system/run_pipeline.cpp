@@ -8,6 +8,8 @@
 #include <iomanip>
 #include <sstream>
 
+#include <opencv2/imgcodecs.hpp>
+
 #include "core/atomic_file.h"
 #include "core/errors.h"
 #include "core/json_writer.h"
@@ -65,10 +67,8 @@ std::string yamlQuote(const std::string& s) {
 }  // namespace
 
 RunSummary runSlam(const RunOptions& opt) {
-  if (opt.mode != "off")
-    throw std::runtime_error("--mode " + opt.mode +
-                             ": dynamic-feature rejection is not available in this build yet "
-                             "(only 'off')");
+  if (opt.mode != "off" && opt.mode != "detect" && opt.mode != "flow" && opt.mode != "detect+flow")
+    throw std::runtime_error("--mode " + opt.mode + ": expected off, detect, flow or detect+flow");
   const std::string config_path = opt.config_path.empty() ? defaultSlamConfigPath() : opt.config_path;
   SlamConfig cfg = loadSlamConfig(config_path);
   if (opt.deterministic >= 0) cfg.system.deterministic = opt.deterministic != 0;
@@ -79,6 +79,17 @@ RunSummary runSlam(const RunOptions& opt) {
   makeDirectories(opt.out_dir);
 
   SlamSystem slam(cfg, source->camera());
+  std::unique_ptr<DynamicFeatureFilter> filter;
+  if (opt.mode != "off") {
+    DynamicFilterParams dp = cfg.dynamic;
+    dp.use_detector = opt.mode != "flow";
+    dp.use_flow = opt.mode != "detect";
+    if (cfg.system.deterministic) dp.async_detector = false;  // reproducible
+    filter = std::make_unique<DynamicFeatureFilter>(dp, source->camera());
+    slam.setPreprocessor(filter.get());
+  }
+  std::vector<std::pair<double, cv::Mat>> keyframe_masks;  // written with the results
+  std::size_t flagged = 0, keypoints = 0;
   FramePrefetcher frames(*source, n, static_cast<std::size_t>(std::max(0, cfg.system.prefetch_frames)));
   ProgressLine progress("frame", n);
   std::vector<double> read_ms;
@@ -90,6 +101,12 @@ RunSummary runSlam(const RunOptions& opt) {
     const RGBDFrame frame = frames.next(&load);
     read_ms.push_back(load);
     const FrameOutcome out = slam.process(frame);
+    if (filter) {
+      for (uint8_t d : out.features->dynamic) flagged += d;
+      keypoints += out.features->size();
+      if (out.track.new_keyframe && cv::countNonZero(filter->lastMask()) > 0)
+        keyframe_masks.emplace_back(frame.timestamp, filter->lastMask().clone());
+    }
     if (out.track.has_pose) {
       ++tracked;
     } else if (out.track.state == TrackingState::kLost) {
@@ -115,6 +132,19 @@ RunSummary runSlam(const RunOptions& opt) {
   writeTumTrajectory(dir + "/trajectory.txt", slam.frameTrajectory(), header);
   writeTumTrajectory(dir + "/keyframes.txt", slam.keyFrameTrajectory(), header + " (keyframes)");
   writeMapPoints(dir + "/map_points.txt", slam.map());
+  if (!keyframe_masks.empty()) {
+    // Per-keyframe dynamic pixels, so `dynslam export` leaves movers out.
+    makeDirectories(dir + "/dynamic_masks");
+    for (const auto& [t, mask] : keyframe_masks) {
+      char name[64];
+      std::snprintf(name, sizeof name, "/dynamic_masks/%.6f.png", t);
+      std::vector<uint8_t> png;
+      cv::imencode(".png", mask, png);
+      writeFileAtomically(dir + name, [&](std::ostream& os) {
+        os.write(reinterpret_cast<const char*>(png.data()), static_cast<std::streamsize>(png.size()));
+      }, true);
+    }
+  }
   writeFileAtomically(dir + "/run_info.yaml", [&](std::ostream& os) {
     os << "# Inputs of this run (read by `dynslam export`).\n"
        << "input: " << yamlQuote(std::filesystem::absolute(opt.input).string()) << "\n"
@@ -144,6 +174,14 @@ RunSummary runSlam(const RunOptions& opt) {
       .value("wall_time_s", wall)
       .value("fps", sum.fps)
       .value("peak_rss_mb", peakRssMb());
+  if (filter) {
+    w.beginObject("dynamic")
+        .value("flagged_keypoints", flagged)
+        .value("flagged_fraction", keypoints ? double(flagged) / keypoints : 0.0)
+        .value("detector_runs", filter->detectorRuns())
+        .value("keyframe_masks", keyframe_masks.size())
+        .endObject();
+  }
   w.beginObject("timing_ms");
   writeStats(w, "read_frame", read_ms);
   for (const auto& stage : slam.times().stages()) writeStats(w, stage, slam.times().samples(stage));

@@ -6,6 +6,7 @@
 #include <functional>
 #include <memory>
 
+#include "core/observation_preprocessor.h"
 #include "core/rgbd_frame.h"
 #include "core/stats.h"
 #include "core/trajectory.h"
@@ -16,17 +17,6 @@
 #include "tracking/tracker.h"
 
 namespace dynslam {
-
-/// Marks keypoints on moving objects: called for every frame between feature
-/// extraction and tracking. `dynamic` has one entry per keypoint, all 0 on
-/// entry; set 1 for keypoints SLAM must ignore.
-class ObservationPreprocessor {
- public:
-  virtual ~ObservationPreprocessor() = default;
-  virtual void process(const RGBDFrame& frame, const cv::Mat& gray,
-                       const std::vector<cv::KeyPoint>& keypoints,
-                       std::vector<uint8_t>& dynamic) = 0;
-};
 
 struct FrameOutcome {
   TrackResult track;

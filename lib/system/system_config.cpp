@@ -3,6 +3,8 @@
 #include "core/camera.h"
 #include "core/config_reader.h"
 
+#include <filesystem>
+
 namespace dynslam {
 
 std::string defaultSlamConfigPath() { return configDir() + "/dynslam.yaml"; }
@@ -78,6 +80,31 @@ SlamConfig loadSlamConfig(const std::string& path) {
       .read("threads", m.ba.threads);
   ba.rejectUnknownKeys();
   lm.rejectUnknownKeys();
+
+  DynamicFilterParams& d = c.dynamic;
+  ConfigSection dy = root.sub("dynamic");
+  dy.read("async_detector", d.async_detector).read("mask_margin_px", d.mask_margin_px);
+  ConfigSection det = dy.sub("detector");
+  std::string model;
+  det.read("model", model)
+      .read("conf_threshold", d.detector.conf_threshold)
+      .read("nms_iou", d.detector.nms_iou)
+      .read("threads", d.detector.num_threads);
+  if (!model.empty()) {
+    // Relative model paths are relative to the config file's folder.
+    const std::filesystem::path mp(model);
+    d.detector.model_path =
+        mp.is_absolute() ? model : (std::filesystem::path(path).parent_path() / mp).string();
+  }
+  det.readList("dynamic_classes", d.detector.dynamic_classes);
+  det.rejectUnknownKeys();
+  ConfigSection mo = dy.sub("motion_check");
+  mo.read("epipolar_threshold_px", d.motion.epipolar_threshold_px)
+      .read("reprojection_threshold_px", d.motion.reprojection_threshold_px)
+      .read("fb_max_error", d.motion.fb_max_error)
+      .read("lk_window", d.motion.lk_window);
+  mo.rejectUnknownKeys();
+  dy.rejectUnknownKeys();
 
   root.rejectUnknownKeys();
   return c;

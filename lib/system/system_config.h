@@ -4,6 +4,7 @@
 // stage libraries stay free of YAML.
 #include <string>
 
+#include "dynamic/dynamic_feature_filter.h"
 #include "features/orb_extractor.h"
 #include "mapping/local_mapper.h"
 #include "optim/pose_optimizer.h"
@@ -34,6 +35,8 @@ struct SlamConfig {
   TrackerParams tracker;
   PoseOptimizerParams pose_optimizer;
   LocalMapperParams mapper;
+  /// Dynamic-feature rejection; use_detector / use_flow are set by the mode.
+  DynamicFilterParams dynamic;
   std::string source;  ///< file it was read from ("" = built-in defaults)
 };
 

@@ -250,12 +250,50 @@ TEST(SystemBadInput, ConfigWithWrongType) {
   expectFailure(r, {cfg, "n_features"}, out);
 }
 
-TEST(SystemBadInput, ModeDetectNotAvailable) {
+TEST(SystemBadInput, UnknownModeIsAUsageError) {
   TempDir d;
   const std::string out = d / "out";
   const CommandResult r =
-      runDynslam({"run", rpyDir(), "-o", out, "--mode", "detect", "--max-frames", "5"});
-  expectFailure(r, {"detect", "not available"}, out);
+      runDynslam({"run", rpyDir(), "-o", out, "--mode", "magic", "--max-frames", "5"});
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("magic"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(out + "/trajectory.txt"));
+}
+
+// detect needs the ONNX model: a missing one is an error naming the file,
+// before any frame is processed (flow alone needs no model).
+TEST(SystemBadInput, MissingDetectorModelNamesTheFile) {
+  TempDir d;
+  const std::string cfg = d / "model.yaml";
+  writeText(cfg, "dynamic:\n  detector:\n    model: no_such_model.onnx\n");
+  const std::string out = d / "out";
+  const CommandResult r = runDynslam(
+      {"run", rpyDir(), "-o", out, "--config", cfg, "--mode", "detect+flow", "--max-frames", "5"});
+  expectFailure(r, {d / "no_such_model.onnx"}, out);
+}
+
+// The dynamic stage on the real, static fr1_rpy: every frame still tracked,
+// the report has the dynamic section, and only a small share of keypoints is
+// flagged (the real seated person and blur, not the room). Deterministic mode
+// runs the detector synchronously, so two runs are identical.
+TEST(SystemDynamic, DetectAndFlowOnStaticSequence) {
+  TempDir d;
+  std::string first;
+  for (int run = 0; run < 2; ++run) {
+    const std::string out = d / ("out" + std::to_string(run));
+    const CommandResult r = runDynslam({"run", rpyDir(), "-o", out, "--mode", "detect+flow",
+                                        "--deterministic", "--max-frames", "30"});
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    cv::FileStorage report(out + "/report.json", cv::FileStorage::READ | cv::FileStorage::FORMAT_JSON);
+    ASSERT_TRUE(report.isOpened());
+    EXPECT_EQ(static_cast<int>(report["tracked_frames"]), 30);
+    EXPECT_EQ(static_cast<std::string>(report["mode"]), "detect+flow");
+    const double flagged = report["dynamic"]["flagged_fraction"];
+    EXPECT_GT(static_cast<int>(report["dynamic"]["detector_runs"]), 0);
+    EXPECT_LT(flagged, 0.2);
+    if (run == 0) first = readAll(out + "/trajectory.txt");
+    else EXPECT_EQ(readAll(out + "/trajectory.txt"), first);
+  }
 }
 
 TEST(SystemBadInput, MissingCameraYaml) {
