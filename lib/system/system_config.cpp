@@ -48,7 +48,10 @@ SlamConfig loadSlamConfig(const std::string& path) {
       .read("kf_close_untracked_min", t.kf_close_untracked_min)
       .read("kf_min_new_points", t.kf_min_new_points)
       .read("init_min_points", t.init_min_points)
-      .read("temporal_points", t.temporal_points);
+      .read("temporal_points", t.temporal_points)
+      .read("reloc_candidates", t.reloc_candidates)
+      .read("reloc_min_matches", t.reloc_min_matches)
+      .read("reloc_min_inliers", t.reloc_min_inliers);
   tr.rejectUnknownKeys();
 
   ConfigSection po = root.sub("pose_optimizer");

@@ -1,5 +1,7 @@
 #include "tracking/tracker.h"
 
+#include <opencv2/calib3d.hpp>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -37,9 +39,9 @@ TrackResult Tracker::track(std::shared_ptr<const FeatureSet> features, std::size
       ok = velocity_valid_ && trackWithMotionModel();
       if (!ok) ok = trackReferenceKeyFrame();
     } else {
-      // Lost: try the last reference keyframe by appearance (full
-      // relocalisation against the whole map comes with place recognition).
-      ok = trackReferenceKeyFrame();
+      // Lost: recent keyframes by appearance, pose by PnP (bag-of-words
+      // candidates over the whole map come with place recognition).
+      ok = relocalize();
     }
     if (ok) ok = trackLocalMap();
     if (ok) {
@@ -224,6 +226,57 @@ bool Tracker::trackReferenceKeyFrame() {
   const int good = discardOutliers(cur_);
   if (kDebug) std::fprintf(stderr, "[track] reference keyframe: %d inliers\n", good);
   return good >= p_.min_inliers_motion;
+}
+
+bool Tracker::relocalize() {
+  std::vector<KeyFrame*> kfs = map_.keyFrames();
+  std::reverse(kfs.begin(), kfs.end());
+  if (static_cast<int>(kfs.size()) > p_.reloc_candidates) kfs.resize(p_.reloc_candidates);
+  const FeatureSet& f = cur_.f();
+  for (KeyFrame* kf : kfs) {
+    std::fill(cur_.points.begin(), cur_.points.end(), nullptr);
+    const int n = matcher_.searchByDescriptor(*kf, cur_);
+    if (n < p_.reloc_min_matches) continue;
+    std::vector<cv::Point3f> object;
+    std::vector<cv::Point2f> image;
+    std::vector<int> idx;
+    for (std::size_t i = 0; i < cur_.points.size(); ++i) {
+      if (!cur_.points[i]) continue;
+      const Eigen::Vector3d& p = cur_.points[i]->pos;
+      object.emplace_back(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z()));
+      image.push_back(f.keys_un[i].pt);
+      idx.push_back(static_cast<int>(i));
+    }
+    cv::Mat rvec, tvec;
+    std::vector<int> inliers;
+    if (!cv::solvePnPRansac(object, image, f.ctx->K, cv::Mat(), rvec, tvec, false, 100, 4.0f,
+                            0.99, inliers, cv::SOLVEPNP_EPNP) ||
+        static_cast<int>(inliers.size()) < p_.reloc_min_inliers)
+      continue;
+    // PnP gives world -> camera; keep only its inliers for the refinement.
+    cv::Mat R;
+    cv::Rodrigues(rvec, R);
+    mrpt::math::CMatrixDouble44 Tcw;
+    Tcw.setIdentity();
+    for (int r = 0; r < 3; ++r) {
+      for (int c = 0; c < 3; ++c) Tcw(r, c) = R.at<double>(r, c);
+      Tcw(r, 3) = tvec.at<double>(r);
+    }
+    cur_.setPose(-mrpt::poses::CPose3D(Tcw));
+    std::vector<uint8_t> keep(cur_.points.size(), 0);
+    for (int k : inliers) keep[idx[k]] = 1;
+    for (std::size_t i = 0; i < cur_.points.size(); ++i)
+      if (!keep[i]) cur_.points[i] = nullptr;
+    optimizeCurrentPose();
+    const int good = discardOutliers(cur_);
+    if (kDebug) std::fprintf(stderr, "[track] relocalisation on keyframe %ld: %d matches, %zu PnP inliers, %d after optimisation\n", kf->id, n, inliers.size(), good);
+    if (good >= p_.reloc_min_inliers) {
+      ref_kf_ = kf;
+      cur_.ref_kf = kf;
+      return true;
+    }
+  }
+  return false;
 }
 
 bool Tracker::isInFrustum(MapPoint* mp, float view_cos_limit) {

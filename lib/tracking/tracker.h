@@ -35,6 +35,11 @@ struct TrackerParams {
   /// motion model. Off by default: they chain each pose to the previous
   /// estimate (drift) instead of the map; useful for map-less tracking only.
   bool temporal_points = false;
+  /// When lost: keyframes tried for relocalisation (most recent first), and
+  /// the descriptor matches / PnP inliers a candidate needs.
+  int reloc_candidates = 20;
+  int reloc_min_matches = 30;
+  int reloc_min_inliers = 30;
 };
 
 enum class TrackingState { kNotInitialized, kOk, kLost };
@@ -84,6 +89,7 @@ class Tracker {
   bool initialize();
   bool trackWithMotionModel();
   bool trackReferenceKeyFrame();
+  bool relocalize();
   bool trackLocalMap();
   int optimizeCurrentPose();
   void updateLocalMap();

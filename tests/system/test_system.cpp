@@ -345,3 +345,40 @@ TEST(SystemBadInput, ConfigRejectsLossyNumbers) {
     EXPECT_THROW(loadSlamConfig(cfg), InputError) << text;
   }
 }
+
+// A 40-frame blackout (frames 30..69 removed from the lists), the scenario
+// of issue 7: the camera turns too far for the motion model, and tracking
+// must come back against the existing map (reference-keyframe matching, or
+// relocalisation over recent keyframes) within 10 frames. Known data: the
+// groundtruth of the frames after the gap.
+TEST(SystemRpy, RelocalisesAfterABlackout) {
+  TempDir d;
+  const std::string seq = d / "rgbd_dataset_freiburg1_rpy_gap";
+  fs::create_directories(seq);
+  fs::create_symlink(rpyDir() + "/rgb", seq + "/rgb");
+  fs::create_symlink(rpyDir() + "/depth", seq + "/depth");
+  fs::copy_file(rpyDir() + "/groundtruth.txt", seq + "/groundtruth.txt");
+  const std::vector<double> pairs = dynslam::tumPairTimestamps(rpyDir());
+  ASSERT_GT(pairs.size(), 110u);
+  for (const std::string list : {"rgb.txt", "depth.txt"}) {
+    std::ifstream in(rpyDir() + "/" + list);
+    std::ofstream out(seq + "/" + list);
+    for (std::string line; std::getline(in, line);) {
+      if (line.empty() || line[0] == '#') continue;
+      const double t = std::stod(line);
+      // Keep the pairs before frame 30 and from frame 70 to 110.
+      if (t < pairs[30] - 0.01 || (t > pairs[70] - 0.01 && t < pairs[110] - 0.01)) out << line << "\n";
+    }
+  }
+  const std::string out = d / "out";
+  const CommandResult r = runDynslam({"run", seq, "-o", out, "--deterministic"});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const dynslam::Trajectory est = dynslam::readTumTrajectory(out + "/trajectory.txt");
+  std::size_t after_gap = 0;
+  for (const auto& p : est) after_gap += p.timestamp > pairs[70] - 0.01;
+  // Relocalised within 10 frames of the gap's end.
+  EXPECT_GE(after_gap, 30u);
+  const auto gt = dynslam::readTumTrajectory(rpyDir() + "/groundtruth.txt");
+  const auto ate = dynslam::computeAte(gt, est);
+  EXPECT_LT(ate.stats.rmse, 0.05);
+}
