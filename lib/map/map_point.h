@@ -31,7 +31,6 @@ class MapPoint {
   long first_kf_id;
   std::map<KeyFrame*, int, KeyFrameIdLess> obs;  ///< keyframe -> keypoint index
   int visible = 1, found = 1;    ///< for the found/visible ratio culling
-  int dynamic_hits = 0;          ///< times it matched a keypoint flagged dynamic
   bool bad = false;
   MapPoint* replaced = nullptr;
 

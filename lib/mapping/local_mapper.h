@@ -38,8 +38,6 @@ struct LocalMapperParams {
   /// Keyframes outside the window that observe its points, held fixed (at most).
   int ba_max_fixed = 30;
   BAParams ba;
-  /// Culls a map point once it has matched keypoints flagged dynamic this many times.
-  int dynamic_cull_hits = 2;
 };
 
 class LocalMapper : public KeyFrameSink {

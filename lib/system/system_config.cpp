@@ -73,8 +73,7 @@ SlamConfig loadSlamConfig(const std::string& path) {
       .read("local_ba", m.local_ba)
       .read("ba_window", m.ba_window)
       .read("skip_ba_when_busy", m.skip_ba_when_busy)
-      .read("ba_max_fixed", m.ba_max_fixed)
-      .read("dynamic_cull_hits", m.dynamic_cull_hits);
+      .read("ba_max_fixed", m.ba_max_fixed);
   ConfigSection ba = lm.sub("bundle_adjustment");
   ba.read("iterations_first", m.ba.iterations_first)
       .read("iterations_second", m.ba.iterations_second)
