@@ -14,6 +14,7 @@
 #include "core/errors.h"
 #include "core/json_writer.h"
 #include "core/progress.h"
+#include "dynamic/mask_scoring.h"
 #include "rawlog/sequence_source.h"
 #include "system/frame_prefetcher.h"
 #include "system/slam_system.h"
@@ -89,6 +90,12 @@ RunSummary runSlam(const RunOptions& opt) {
     slam.setPreprocessor(filter.get());
   }
   std::vector<std::pair<double, cv::Mat>> keyframe_masks;  // written with the results
+  // Composite sequences (make_dynamic_sequence.py) carry the true moving
+  // pixels in INPUT/masks/<rgb name>.png: score the flags against them.
+  const std::string masks_dir =
+      isDirectory(opt.input + "/masks") ? opt.input + "/masks" : std::string();
+  MaskScore mask_total;
+  std::vector<MaskScore> mask_frames;
   std::size_t flagged = 0, keypoints = 0;
   FramePrefetcher frames(*source, n, static_cast<std::size_t>(std::max(0, cfg.system.prefetch_frames)));
   ProgressLine progress("frame", n);
@@ -101,6 +108,18 @@ RunSummary runSlam(const RunOptions& opt) {
     const RGBDFrame frame = frames.next(&load);
     read_ms.push_back(load);
     const FrameOutcome out = slam.process(frame);
+    if (!masks_dir.empty()) {
+      const std::string mask_path = masks_dir + "/" +
+          std::filesystem::path(frame.rgb_source).stem().string() + ".png";
+      if (!fileExists(mask_path)) throw InputError(mask_path, "dynamic-pixel mask missing");
+      const cv::Mat gt = cv::imread(mask_path, cv::IMREAD_UNCHANGED);
+      if (gt.type() != CV_8UC1 || gt.size() != frame.rgb.size())
+        throw InputError(mask_path, "mask must be 8-bit single channel, the size of the RGB image");
+      std::vector<cv::Point2f> pts;
+      for (const auto& k : out.features->keys) pts.push_back(k.pt);
+      mask_frames.push_back(scoreKeypoints(pts, out.features->dynamic, gt));
+      mask_total += mask_frames.back();
+    }
     if (filter) {
       for (uint8_t d : out.features->dynamic) flagged += d;
       keypoints += out.features->size();
@@ -181,6 +200,31 @@ RunSummary runSlam(const RunOptions& opt) {
         .value("detector_runs", filter->detectorRuns())
         .value("keyframe_masks", keyframe_masks.size())
         .endObject();
+  }
+  if (!masks_dir.empty()) {
+    // Keypoints at least 3 px inside a walker / outside every person.
+    w.beginObject("mask_scores")
+        .value("masks", masks_dir)
+        .value("frames_scored", mask_frames.size())
+        .value("walker_points", mask_total.walker_points)
+        .value("walker_flagged", mask_total.walker_flagged)
+        .value("recall", mask_total.recall())
+        .value("static_points", mask_total.static_points)
+        .value("static_flagged", mask_total.static_flagged)
+        .value("false_rejection_rate", mask_total.falseRejectionRate())
+        .value("standing_points", mask_total.standing_points)
+        .value("standing_flagged", mask_total.standing_flagged)
+        .value("standing_rejection_rate", mask_total.standingRejectionRate());
+    w.beginArray("per_frame_walker_points_flagged_static_points_flagged");
+    for (const MaskScore& m : mask_frames) {
+      w.beginArray()
+          .element(m.walker_points)
+          .element(m.walker_flagged)
+          .element(m.static_points)
+          .element(m.static_flagged)
+          .endArray();
+    }
+    w.endArray().endObject();
   }
   w.beginObject("timing_ms");
   writeStats(w, "read_frame", read_ms);
