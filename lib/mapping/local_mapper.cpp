@@ -11,6 +11,9 @@
 namespace dynslam {
 
 namespace {
+// DYNSLAM_DEBUG_MAPPING=1 prints one line per fusion and BA step on stderr.
+const bool kDebug = std::getenv("DYNSLAM_DEBUG_MAPPING") != nullptr;
+
 double msSince(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
@@ -252,7 +255,7 @@ void LocalMapper::fuseWithNeighbours(KeyFrame* kf) {
     }
   }
   const int fused_in = matcher_.fuse(kf, cand);
-  if (std::getenv("DYNSLAM_DEBUG_MAPPING"))
+  if (kDebug)
     std::fprintf(stderr, "[map] kf %ld fusion: %zu targets, %zu own points -> %d fused; %zu candidates -> %d fused\n",
                  kf->id, targets.size(), own.size(), fused_out, cand.size(), fused_in);
   for (MapPoint* mp : kf->points) {
@@ -336,7 +339,7 @@ void LocalMapper::bundleAdjust(KeyFrame* kf) {
   }
   // The solve runs without the map lock so tracking continues meanwhile.
   const BAResult res = dynslam::bundleAdjust(prob, p_.ba);
-  if (std::getenv("DYNSLAM_DEBUG_MAPPING")) {
+  if (kDebug) {
     std::size_t out = 0;
     for (bool b : res.inlier) out += !b;
     std::map<int, int> hist;

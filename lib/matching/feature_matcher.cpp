@@ -123,7 +123,8 @@ int FeatureMatcher::searchByProjection(Frame& cur, const std::vector<MapPoint*>&
     cur.points[best_idx] = mp;
     ++n;
   }
-  if (std::getenv("DYNSLAM_DEBUG_MATCHING"))
+  static const bool debug = std::getenv("DYNSLAM_DEBUG_MATCHING") != nullptr;
+  if (debug)
     std::fprintf(stderr, "[match] local: %d matched, %d no candidate, %d all taken, %d descriptor too far, %d ratio\n",
                  n, no_cand, all_taken, too_far, ratio_fail);
   return n;

@@ -155,29 +155,6 @@ int Tracker::optimizeCurrentPose() {
   const PoseOptimizerResult r = optimizePose(f.ctx->proj, cur_.pose.wc(), obs, optim_);
   cur_.setPose(r.pose_wc);
   for (std::size_t k = 0; k < idx.size(); ++k) cur_.outlier[idx[k]] = r.inlier[k] ? 0 : 1;
-  if (std::getenv("DYNSLAM_DEBUG_RESIDUALS")) {
-    int px_ok = 0, ur_bad = 0, stereo = 0;
-    std::vector<double> epx, eur;
-    for (std::size_t k = 0; k < obs.size(); ++k) {
-      const Eigen::Vector3d pc = cur_.pose.toCamera(obs[k].point_world);
-      const Eigen::Vector3d pr = f.ctx->proj.projectStereo(pc);
-      const double e2 = (pr.head<2>() - obs[k].pixel).squaredNorm() * obs[k].inv_sigma2;
-      const bool ok = e2 < 5.991;
-      px_ok += ok;
-      epx.push_back(std::sqrt(e2));
-      if (obs[k].ur >= 0) {
-        ++stereo;
-        const double er = (pr.z() - obs[k].ur);
-        if (ok) eur.push_back(er);
-        if (ok && e2 + er * er * obs[k].inv_sigma2 > 7.815) ++ur_bad;
-      }
-    }
-    std::sort(epx.begin(), epx.end());
-    std::sort(eur.begin(), eur.end());
-    std::fprintf(stderr, "[resid] %zu obs: %d pass pixel test, %d of those fail only by depth; pixel err p25/50/75 %.2f %.2f %.2f; ur err p10/50/90 %.2f %.2f %.2f; inliers %d\n",
-                 obs.size(), px_ok, ur_bad, epx[epx.size()/4], epx[epx.size()/2], epx[3*epx.size()/4],
-                 eur.empty()?0:eur[eur.size()/10], eur.empty()?0:eur[eur.size()/2], eur.empty()?0:eur[9*eur.size()/10], r.n_inliers);
-  }
   return r.n_inliers;
 }
 
