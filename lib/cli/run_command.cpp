@@ -26,8 +26,11 @@ int runMain(int argc, char** argv) {
       false, "", "CAMERA.yaml", cmd);
   std::vector<std::string> modes = {"off", "detect", "flow", "detect+flow"};
   TCLAP::ValuesConstraint<std::string> mode_values(modes);
-  TCLAP::ValueArg<std::string> mode("", "mode", "dynamic-feature rejection mode", false, "off",
-                                    &mode_values, cmd);
+  TCLAP::ValueArg<std::string> mode(
+      "", "mode",
+      "dynamic-feature rejection: off (plain SLAM, the default for now), detect (YOLO boxes), "
+      "flow (LK motion check) or detect+flow",
+      false, "off", &mode_values, cmd);
   TCLAP::ValueArg<std::size_t> max_frames("", "max-frames", "process only the first N frames",
                                           false, 0, "N", cmd);
   TCLAP::SwitchArg deterministic("", "deterministic",
