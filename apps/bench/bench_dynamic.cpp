@@ -25,12 +25,12 @@
 
 #include <time.h>
 
-#include "core/association.h"
 #include "core/camera.h"
 #include "core/stats.h"
 #include "dynamic/depth_masks.h"
 #include "dynamic/mask_scoring.h"
 #include "dynamic/motion_check.h"
+#include "rawlog/tum_folder_source.h"
 #include "dynamic/yolo_detector.h"
 
 using namespace dynslam;
@@ -41,32 +41,18 @@ struct Seq {
   std::vector<std::string> rgb, depth;  // associated pairs, full paths
 };
 
-std::vector<std::pair<double, std::string>> readList(const std::string& path) {
-  std::ifstream in(path);
-  std::vector<std::pair<double, std::string>> rows;
-  std::string line;
-  while (std::getline(in, line)) {
-    if (line.empty() || line[0] == '#') continue;
-    std::istringstream ss(line);
-    double t;
-    std::string f;
-    if (ss >> t >> f) rows.emplace_back(t, f);
-  }
-  return rows;
-}
-
+// The sequence's associated RGB-D pairs, read by the project's TUM reader
+// (fr1 camera given explicitly: composite folders may have any name).
 Seq loadSeq(const std::string& dir) {
-  const auto rgb = readList(dir + "/rgb.txt"), depth = readList(dir + "/depth.txt");
-  std::vector<double> a, b;
-  for (const auto& r : rgb) a.push_back(r.first);
-  for (const auto& r : depth) b.push_back(r.first);
   Seq s;
-  for (const auto& [i, j] : associateTimestamps(a, b)) {
-    s.rgb.push_back(dir + "/" + rgb[i].second);
-    s.depth.push_back(dir + "/" + depth[j].second);
-  }
-  if (s.rgb.empty()) {
-    std::cerr << dir << ": no associated RGB-D frames\n";
+  try {
+    const dynslam::TumFolderSource src(dir, DYNSLAM_SOURCE_DIR "/configs/tum_fr1.yaml");
+    for (std::size_t i = 0; i < src.size(); ++i) {
+      s.rgb.push_back(src.rgbPath(i));
+      s.depth.push_back(src.depthPath(i));
+    }
+  } catch (const std::exception& e) {
+    std::cerr << e.what() << "\n";
     std::exit(1);
   }
   return s;

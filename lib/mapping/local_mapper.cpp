@@ -170,11 +170,7 @@ void LocalMapper::cullRecentPoints(KeyFrame* kf) {
 void LocalMapper::createNewPoints(KeyFrame* kf) {
   const FrameContext& ctx = *kf->f().ctx;
   const double ratio_factor = 1.5 * ctx.scale_factor;
-  const Eigen::Matrix3d Kinv = [&] {
-    Eigen::Matrix3d K;
-    K << ctx.proj.fx, 0, ctx.proj.cx, 0, ctx.proj.fy, ctx.proj.cy, 0, 0, 1;
-    return Eigen::Matrix3d(K.inverse());
-  }();
+  const Eigen::Matrix3d Kinv = ctx.proj.matrix().inverse();
   const double min_baseline = ctx.proj.bf / ctx.proj.fx;
   for (KeyFrame* nb : kf->bestCovisibles(p_.triangulation_neighbours)) {
     if ((nb->pose.center() - kf->pose.center()).norm() < min_baseline) continue;

@@ -186,9 +186,7 @@ std::vector<std::pair<int, int>> FeatureMatcher::searchForTriangulation(
   const Eigen::Vector3d t12 = k1.pose.Rcw() * (k2.pose.center() - k1.pose.center());
   Eigen::Matrix3d tx;
   tx << 0, -t12.z(), t12.y(), t12.z(), 0, -t12.x(), -t12.y(), t12.x(), 0;
-  Eigen::Matrix3d K;
-  K << ctx.proj.fx, 0, ctx.proj.cx, 0, ctx.proj.fy, ctx.proj.cy, 0, 0, 1;
-  const Eigen::Matrix3d Kinv = K.inverse();
+  const Eigen::Matrix3d Kinv = ctx.proj.matrix().inverse();
   const Eigen::Matrix3d F12 = Kinv.transpose() * tx * R12 * Kinv;
   // Epipole of k1's centre in k2: too-close matches give poor parallax.
   const Eigen::Vector3d c1_in_2 = k2.pose.toCamera(k1.pose.center());

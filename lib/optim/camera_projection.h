@@ -21,6 +21,12 @@ struct ProjectionModel {
     const double u = fx * pc.x() / pc.z() + cx;
     return {u, fy * pc.y() / pc.z() + cy, u - bf / pc.z()};
   }
+  /// The 3x3 intrinsic matrix K.
+  Eigen::Matrix3d matrix() const {
+    Eigen::Matrix3d K;
+    K << fx, 0, cx, 0, fy, cy, 0, 0, 1;
+    return K;
+  }
   Eigen::Vector3d unproject(double u, double v, double z) const {
     return {(u - cx) * z / fx, (v - cy) * z / fy, z};
   }

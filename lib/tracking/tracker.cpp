@@ -117,12 +117,7 @@ void Tracker::updateLastFrame() {
   temp_points_.clear();
   if (last_kf_ && last_kf_->frame_id == last_.id) return;
   const FeatureSet& f = last_.f();
-  std::vector<std::pair<float, int>> by_depth;
-  for (std::size_t i = 0; i < f.size(); ++i)
-    if (f.depth[i] > 0) by_depth.emplace_back(f.depth[i], static_cast<int>(i));
-  std::sort(by_depth.begin(), by_depth.end());
-  int n = 0;
-  for (const auto& [z, i] : by_depth) {
+  for (int i : pointsFromDepth(f, false)) {
     MapPoint* existing = last_.points[i];
     if (!existing || existing->nObs() < 1) {
       auto mp = std::make_unique<MapPoint>(-1, last_.pose.toWorld(f.unprojectCamera(i)), nullptr);
@@ -131,9 +126,21 @@ void Tracker::updateLastFrame() {
       last_.outlier[i] = 0;
       temp_points_.push_back(std::move(mp));
     }
-    ++n;
-    if (z > f.ctx->close_depth && n > p_.kf_min_new_points) break;
   }
+}
+
+std::vector<int> Tracker::pointsFromDepth(const FeatureSet& f, bool skip_dynamic) const {
+  std::vector<std::pair<float, int>> by_depth;
+  for (std::size_t i = 0; i < f.size(); ++i)
+    if (f.depth[i] > 0 && !(skip_dynamic && f.dynamic[i]))
+      by_depth.emplace_back(f.depth[i], static_cast<int>(i));
+  std::sort(by_depth.begin(), by_depth.end());
+  std::vector<int> out;
+  for (const auto& [z, i] : by_depth) {
+    out.push_back(i);
+    if (z > f.ctx->close_depth && static_cast<int>(out.size()) > p_.kf_min_new_points) break;
+  }
+  return out;
 }
 
 int Tracker::optimizeCurrentPose() {
@@ -408,13 +415,7 @@ void Tracker::createKeyFrame() {
     MapPoint* mp = cur_.points[i];
     if (mp && !mp->bad && mp->nObs() > 0) kf->addPoint(mp, static_cast<int>(i));
   }
-  // New points from depth: every close keypoint, at least kf_min_new_points.
-  std::vector<std::pair<float, int>> by_depth;
-  for (std::size_t i = 0; i < f.size(); ++i)
-    if (f.depth[i] > 0 && !f.dynamic[i]) by_depth.emplace_back(f.depth[i], static_cast<int>(i));
-  std::sort(by_depth.begin(), by_depth.end());
-  int n = 0;
-  for (const auto& [z, i] : by_depth) {
+  for (int i : pointsFromDepth(f, true)) {
     if (!kf->points[i]) {
       MapPoint* mp = map_.createMapPoint(kf->pose.toWorld(f.unprojectCamera(i)), kf);
       mp->addObservation(kf, i);
@@ -424,8 +425,6 @@ void Tracker::createKeyFrame() {
       cur_.points[i] = mp;
       cur_.outlier[i] = 0;
     }
-    ++n;
-    if (z > f.ctx->close_depth && n > p_.kf_min_new_points) break;
   }
   ref_kf_ = last_kf_ = kf;
   cur_.ref_kf = kf;

@@ -97,6 +97,9 @@ class Tracker {
   bool needNewKeyFrame() const;
   void createKeyFrame();
   void updateLastFrame();
+  /// Keypoints with depth, nearest first: every close one (depth below
+  /// close_depth) and at least kf_min_new_points in all.
+  std::vector<int> pointsFromDepth(const FeatureSet& f, bool skip_dynamic) const;
   bool isInFrustum(MapPoint* mp, float view_cos_limit);
 
   Map& map_;

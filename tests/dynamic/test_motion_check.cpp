@@ -13,9 +13,9 @@
 #include <random>
 #include <sstream>
 
-#include "core/association.h"
 #include "core/camera.h"
 #include "dynamic/motion_check.h"
+#include "rawlog/tum_folder_source.h"
 #include "testing/test_support.h"
 
 using namespace dynslam;
@@ -261,25 +261,8 @@ TEST(MotionConsistencyCheck, NoPointsNoCrash) {
 // blur): the check must leave nearly all tracked points static.
 TEST(MotionConsistencyCheck, RealStaticSceneFlagsFewPoints) {
   const std::string dir = dynslam::test::rpyDir();
-  auto readList = [](const std::string& path) {
-    std::ifstream in(path);
-    std::vector<std::pair<double, std::string>> rows;
-    std::string line;
-    while (std::getline(in, line)) {
-      if (line.empty() || line[0] == '#') continue;
-      std::istringstream ss(line);
-      double t;
-      std::string f;
-      if (ss >> t >> f) rows.emplace_back(t, f);
-    }
-    return rows;
-  };
-  const auto rgb = readList(dir + "/rgb.txt"), depth = readList(dir + "/depth.txt");
-  std::vector<double> a, b;
-  for (const auto& r : rgb) a.push_back(r.first);
-  for (const auto& r : depth) b.push_back(r.first);
-  const auto pairs = associateTimestamps(a, b);
-  ASSERT_GT(pairs.size(), 20u);
+  const dynslam::TumFolderSource seq(dir);
+  ASSERT_GT(seq.size(), 20u);
   const PinholeCamera cam = loadCameraYaml(dynslam::test::sourceDir() + "/configs/tum_fr1.yaml");
 
   MotionConsistencyCheck check;
@@ -287,8 +270,8 @@ TEST(MotionConsistencyCheck, RealStaticSceneFlagsFewPoints) {
   std::vector<cv::Point2f> pts;
   int tracked = 0, flagged = 0, reliable = 0;
   for (std::size_t i = 10; i < 15; ++i) {
-    const cv::Mat im = cv::imread(dir + "/" + rgb[pairs[i].first].second, cv::IMREAD_GRAYSCALE);
-    const cv::Mat d = cv::imread(dir + "/" + depth[pairs[i].second].second, cv::IMREAD_UNCHANGED);
+    const cv::Mat im = cv::imread(seq.rgbPath(i), cv::IMREAD_GRAYSCALE);
+    const cv::Mat d = cv::imread(seq.depthPath(i), cv::IMREAD_UNCHANGED);
     ASSERT_FALSE(im.empty());
     ASSERT_EQ(d.type(), CV_16UC1);
     MotionFrame cur = check.makeFrame(im, d);

@@ -204,7 +204,9 @@ TEST(FeatureMatcher, SearchByProjectionFrameToFrameWithTruePose) {
   EXPECT_EQ(cur.matchedCount(), n);
   // Distractor keypoints never get a point.
   for (std::size_t k = 0; k < cur.points.size(); ++k)
-    if (v2.point_of_key[k] < 0) EXPECT_EQ(cur.points[k], nullptr);
+    if (v2.point_of_key[k] < 0) {
+      EXPECT_EQ(cur.points[k], nullptr);
+    }
 }
 
 // The search is guided by the pose: with a pose 0.5 m off and a small window,
@@ -448,7 +450,9 @@ TEST(FeatureMatcher, FuseMergesDuplicatesAndFillsFreeKeypoints) {
   EXPECT_GE(filled, 93);
   // Distractors stay free.
   for (std::size_t k = 0; k < kb->points.size(); ++k)
-    if (v2.point_of_key[k] < 0) EXPECT_EQ(kb->points[k], nullptr);
+    if (v2.point_of_key[k] < 0) {
+      EXPECT_EQ(kb->points[k], nullptr);
+    }
 
   // A second fuse finds nothing new to do for points already in kb.
   for (MapPoint*& p : pts) p = p->live();
