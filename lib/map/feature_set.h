@@ -2,6 +2,7 @@
 // The immutable per-image feature data (keypoints, descriptors, depths,
 // dynamic flags and a spatial grid over them). A Frame builds it once; the
 // KeyFrame made from that frame shares the same object instead of copying it.
+#include <mrpt/poses/CPose3D.h>
 #include <opencv2/core.hpp>
 
 #include <Eigen/Core>
@@ -42,7 +43,14 @@ struct FeatureSet {
   /// builds the grid (dynamic keypoints are left out of the grid, so no
   /// matcher ever sees them).
   /// rgb (BGR, optional) gives the keypoint colours.
-  void finalize(const cv::Mat& depth_raw, const cv::Mat& rgb = cv::Mat());
+  /// rgb_from_depth (optional): the camera at the depth image's time seen from
+  /// the camera at the RGB image's time. Depth and RGB of a Kinect-class
+  /// sensor are up to ~15 ms apart; at 80 deg/s that is ~10 px, enough to read
+  /// every keypoint's depth off the wrong surface patch. With it, each
+  /// keypoint's depth is read where the point was at the depth time and moved
+  /// back into the RGB camera.
+  void finalize(const cv::Mat& depth_raw, const cv::Mat& rgb = cv::Mat(),
+                const mrpt::poses::CPose3D* rgb_from_depth = nullptr);
 };
 
 }  // namespace dynslam

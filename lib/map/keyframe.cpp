@@ -142,8 +142,22 @@ void KeyFrame::setBad() {
     if (parent) parent->children.insert(c);
   }
   children.clear();
-  if (parent) parent->children.erase(this);
+  if (parent) {
+    parent->children.erase(this);
+    rel_to_parent_ = pose.wc() - parent->pose.wc();
+  }
   bad = true;
+}
+
+mrpt::poses::CPose3D KeyFrame::worldPose() const {
+  // Culled keyframes chain through their parents to the first live ancestor.
+  mrpt::poses::CPose3D rel;
+  const KeyFrame* kf = this;
+  while (kf->bad && kf->parent) {
+    rel = kf->rel_to_parent_ + rel;
+    kf = kf->parent;
+  }
+  return kf->pose.wc() + rel;
 }
 
 }  // namespace dynslam

@@ -59,7 +59,14 @@ class KeyFrame {
   /// parents among covisible keyframes and detaches its map points.
   void setBad();
 
+  /// Camera-to-world pose that follows later corrections even after culling:
+  /// a culled keyframe keeps its pose relative to its parent (stored by
+  /// setBad) and resolves through the parent chain, so frames tracked against
+  /// it still move with the map when BA or loop closing moves the parent.
+  mrpt::poses::CPose3D worldPose() const;
+
  private:
+  mrpt::poses::CPose3D rel_to_parent_;  ///< parent^-1 * this, set when culled
   void sortConnections();
   std::map<KeyFrame*, int, KeyFrameIdLess> weights_;
   std::vector<KeyFrame*> ordered_;

@@ -37,7 +37,11 @@ FrameOutcome SlamSystem::process(const RGBDFrame& frame) {
   feats->dynamic.assign(feats->keys.size(), 0);
   if (preprocessor_) preprocessor_->process(frame, gray_, feats->keys, feats->dynamic);
   const auto t2 = Clock::now();
-  feats->finalize(frame.depth, frame.rgb);
+  mrpt::poses::CPose3D rgb_from_depth;
+  const bool shift_depth =
+      cfg_.system.depth_time_compensation && frame.depth_timestamp != 0 &&
+      tracker_->predictMotion(frame.depth_timestamp - frame.timestamp, rgb_from_depth);
+  feats->finalize(frame.depth, frame.rgb, shift_depth ? &rgb_from_depth : nullptr);
 
   FrameOutcome out;
   out.features = feats;
@@ -66,7 +70,7 @@ void SlamSystem::finish() {
 Trajectory SlamSystem::frameTrajectory() const {
   Trajectory t;
   for (const auto& r : tracker_->records())
-    t.push_back({r.timestamp, r.ref_kf->pose.wc() + r.rel});
+    t.push_back({r.timestamp, r.ref_kf->worldPose() + r.rel});
   return t;
 }
 

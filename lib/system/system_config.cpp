@@ -20,6 +20,7 @@ SlamConfig loadSlamConfig(const std::string& path) {
       .read("close_depth", c.system.close_depth)
       .read("depth_edge_window", c.system.depth_edge_window)
       .read("depth_edge_ratio", c.system.depth_edge_ratio)
+      .read("depth_time_compensation", c.system.depth_time_compensation)
       .read("prefetch_frames", c.system.prefetch_frames);
   s.rejectUnknownKeys();
 

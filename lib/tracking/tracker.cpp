@@ -1,5 +1,7 @@
 #include "tracking/tracker.h"
 
+#include <mrpt/poses/Lie/SE.h>
+
 #include <opencv2/calib3d.hpp>
 
 #include <algorithm>
@@ -46,7 +48,10 @@ TrackResult Tracker::track(std::shared_ptr<const FeatureSet> features, std::size
     if (ok) ok = trackLocalMap();
     if (ok) {
       velocity_valid_ = last_.has_pose;
-      if (velocity_valid_) velocity_ = cur_.pose.wc() - last_.pose.wc();
+      if (velocity_valid_) {
+        velocity_ = cur_.pose.wc() - last_.pose.wc();
+        velocity_dt_ = cur_.timestamp - last_.timestamp;
+      }
       state_ = TrackingState::kOk;
       // Matches marked outliers by the optimiser are dropped for the next frame.
       for (std::size_t i = 0; i < cur_.points.size(); ++i)
@@ -76,9 +81,17 @@ TrackResult Tracker::track(std::shared_ptr<const FeatureSet> features, std::size
   if (res.has_pose) {
     res.pose_wc = cur_.pose.wc();
     if (!cur_.ref_kf) cur_.ref_kf = ref_kf_;
-    records_.push_back({index, timestamp, cur_.ref_kf, cur_.pose.wc() - cur_.ref_kf->pose.wc()});
+    records_.push_back({index, timestamp, cur_.ref_kf, cur_.pose.wc() - cur_.ref_kf->worldPose()});
   }
   return res;
+}
+
+bool Tracker::predictMotion(double dt, mrpt::poses::CPose3D& motion) const {
+  if (!velocity_valid_ || state_ != TrackingState::kOk || velocity_dt_ <= 0) return false;
+  auto xi = mrpt::poses::Lie::SE<3>::log(velocity_);
+  for (int k = 0; k < 6; ++k) xi[k] *= dt / velocity_dt_;
+  motion = mrpt::poses::Lie::SE<3>::exp(xi);
+  return true;
 }
 
 bool Tracker::initialize() {
@@ -113,7 +126,7 @@ void Tracker::updateLastFrame() {
   // motion model has enough to match right after a keyframe was culled.
   if (!last_.has_pose || !last_.ref_kf) return;
   if (!records_.empty() && records_.back().index == last_.index && !last_.ref_kf->bad)
-    last_.setPose(last_.ref_kf->pose.wc() + records_.back().rel);
+    last_.setPose(last_.ref_kf->worldPose() + records_.back().rel);
   temp_points_.clear();
   if (last_kf_ && last_kf_->frame_id == last_.id) return;
   const FeatureSet& f = last_.f();

@@ -74,6 +74,12 @@ class Tracker {
 
   TrackingState state() const { return state_; }
 
+  /// Constant-velocity prediction of the camera's motion over `dt` seconds
+  /// after the last tracked frame: the pose at t+dt in the camera frame at t.
+  /// False without a valid velocity. Used to bring a depth image taken a few
+  /// milliseconds before/after the RGB image to the RGB image's time.
+  bool predictMotion(double dt, mrpt::poses::CPose3D& motion) const;
+
   /// Camera-to-world pose of every tracked frame, recomputed from its
   /// reference keyframe's current pose (so BA corrections reach the
   /// trajectory). Untracked frames are absent.
@@ -112,7 +118,8 @@ class Tracker {
   Frame cur_, last_;
   long next_frame_id_ = 0;
   bool velocity_valid_ = false;
-  mrpt::poses::CPose3D velocity_;
+  mrpt::poses::CPose3D velocity_;  ///< last frame in the one before (last^-1 * cur)
+  double velocity_dt_ = 0;         ///< time (s) the velocity spans
   KeyFrame* ref_kf_ = nullptr;
   KeyFrame* last_kf_ = nullptr;
   long last_kf_frame_id_ = 0;
