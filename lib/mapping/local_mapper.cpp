@@ -1,11 +1,14 @@
 #include "mapping/local_mapper.h"
 
+#include "mapping/map_ba_problem.h"
+
 #include <Eigen/Dense>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <map>
+#include <memory>
 #include <set>
 
 namespace dynslam {
@@ -265,15 +268,9 @@ void LocalMapper::fuseWithNeighbours(KeyFrame* kf) {
 
 void LocalMapper::bundleAdjust(KeyFrame* kf) {
   const auto t0 = std::chrono::steady_clock::now();
-  BAProblem prob;
-  std::vector<KeyFrame*> kfs;
-  std::vector<MapPoint*> pts;
-  struct ObsRef { KeyFrame* kf; MapPoint* mp; };
-  std::vector<ObsRef> obs_refs;
+  std::unique_ptr<MapBAProblem> problem;
   {
     std::lock_guard<std::mutex> lk(map_.mutex());
-    const FrameContext& ctx = *kf->f().ctx;
-    prob.camera = ctx.proj;
     std::vector<KeyFrame*> local = {kf};
     kf->ba_local_kf = kf->id;
     for (KeyFrame* n : kf->orderedCovisibles()) {
@@ -282,18 +279,16 @@ void LocalMapper::bundleAdjust(KeyFrame* kf) {
       n->ba_local_kf = kf->id;
       local.push_back(n);
     }
+    // Fixed keyframes: those sharing the most local points (they anchor the gauge).
+    std::map<KeyFrame*, int, KeyFrameIdLess> shared;
     for (KeyFrame* k : local) {
       for (MapPoint* mp : k->points) {
         if (!mp || mp->bad || mp->ba_kf == kf->id) continue;
         mp->ba_kf = kf->id;
-        pts.push_back(mp);
+        for (auto& [o, idx] : mp->obs)
+          if (!o->bad && o->ba_local_kf != kf->id) shared[o]++;
       }
     }
-    // Fixed keyframes: those sharing the most local points (they anchor the gauge).
-    std::map<KeyFrame*, int, KeyFrameIdLess> shared;
-    for (MapPoint* mp : pts)
-      for (auto& [o, idx] : mp->obs)
-        if (!o->bad && o->ba_local_kf != kf->id) shared[o]++;
     std::vector<std::pair<int, KeyFrame*>> by_shared;
     for (auto& [o, n] : shared) by_shared.emplace_back(n, o);
     std::stable_sort(by_shared.begin(), by_shared.end(),
@@ -304,66 +299,20 @@ void LocalMapper::bundleAdjust(KeyFrame* kf) {
       o->ba_fixed_kf = kf->id;
       fixed.push_back(o);
     }
-    std::map<const KeyFrame*, int> kf_index;
-    for (KeyFrame* k : local) {
-      kf_index[k] = static_cast<int>(kfs.size());
-      kfs.push_back(k);
-      prob.keyframes.push_back({k->pose.wc(), k->id == 0});
-    }
-    for (KeyFrame* k : fixed) {
-      kf_index[k] = static_cast<int>(kfs.size());
-      kfs.push_back(k);
-      prob.keyframes.push_back({k->pose.wc(), true});
-    }
-    for (std::size_t pi = 0; pi < pts.size(); ++pi) {
-      MapPoint* mp = pts[pi];
-      prob.points.push_back({mp->pos});
-      for (auto& [o, idx] : mp->obs) {
-        auto it = kf_index.find(o);
-        if (it == kf_index.end()) continue;
-        const cv::KeyPoint& kp = o->f().keys_un[idx];
-        BAObservation ob;
-        ob.keyframe = it->second;
-        ob.point = static_cast<int>(pi);
-        ob.pixel = Eigen::Vector2d(kp.pt.x, kp.pt.y);
-        ob.ur = o->f().ur[idx];
-        ob.inv_sigma2 = ctx.inv_sigma2[kp.octave];
-        prob.observations.push_back(ob);
-        obs_refs.push_back({o, mp});
-      }
-    }
+    problem = std::make_unique<MapBAProblem>(local, fixed);
   }
   // The solve runs without the map lock so tracking continues meanwhile.
-  const BAResult res = dynslam::bundleAdjust(prob, p_.ba);
+  const BAResult res = dynslam::bundleAdjust(problem->problem(), p_.ba);
   if (kDebug) {
     std::size_t out = 0;
     for (bool b : res.inlier) out += !b;
-    std::map<int, int> hist;
-    for (MapPoint* mp : pts) hist[std::min(mp->nObs(), 6)]++;
-    std::fprintf(stderr, "[map] kf %ld BA: %zu local+fixed kfs, %zu points, %zu obs, %zu outliers; nObs hist:", kf->id,
-                 kfs.size(), pts.size(), prob.observations.size(), out);
-    for (auto& [k, v] : hist) std::fprintf(stderr, " %d:%d", k, v);
-    std::fprintf(stderr, "\n");
+    std::fprintf(stderr, "[map] kf %ld BA: %zu kfs, %zu points, %zu obs, %zu outliers\n", kf->id,
+                 problem->problem().keyframes.size(), problem->points().size(),
+                 problem->problem().observations.size(), out);
   }
   {
     std::lock_guard<std::mutex> lk(map_.mutex());
-    for (std::size_t k = 0; k < obs_refs.size(); ++k) {
-      if (res.inlier[k]) continue;
-      KeyFrame* o = obs_refs[k].kf;
-      MapPoint* mp = obs_refs[k].mp;
-      auto it = mp->obs.find(o);
-      if (it == mp->obs.end()) continue;
-      const int idx = it->second;
-      o->erasePoint(idx);
-      mp->eraseObservation(o);
-    }
-    for (std::size_t k = 0; k < kfs.size(); ++k)
-      if (!prob.keyframes[k].fixed && !kfs[k]->bad) kfs[k]->pose.set(prob.keyframes[k].pose_wc);
-    for (std::size_t pi = 0; pi < pts.size(); ++pi) {
-      if (pts[pi]->bad) continue;
-      pts[pi]->pos = prob.points[pi].position;
-      pts[pi]->updateNormalAndDepth();
-    }
+    problem->writeBack(res);
   }
   std::lock_guard<std::mutex> lk(stats_mutex_);
   stats_.ba_runs++;

@@ -239,6 +239,16 @@ RunSummary runSlam(const RunOptions& opt) {
   writeStats(w, "ba_ms", ms.ba_ms);
   writeStats(w, "keyframe_ms", ms.step_ms);
   w.endObject();
+  const GlobalBAResult& gba = slam.finalBundleAdjustment();
+  w.beginObject("final_global_ba")
+      .value("keyframes", gba.keyframes)
+      .value("points", gba.points)
+      .value("observations", gba.observations)
+      .value("iterations", gba.ba.iterations)
+      .value("initial_cost", gba.ba.initial_cost)
+      .value("final_cost", gba.ba.final_cost)
+      .value("ms", gba.ms)
+      .endObject();
   w.endObject();
   writeFileAtomically(dir + "/report.json", [&](std::ostream& os) { os << w.str(); });
   return sum;

@@ -61,9 +61,15 @@ FrameOutcome SlamSystem::process(const RGBDFrame& frame) {
 }
 
 void SlamSystem::finish() {
-  if (mapper_) {
-    mapper_->flush();
-    mapper_->stop();
+  if (finished_) return;
+  finished_ = true;
+  mapper_->flush();
+  mapper_->stop();
+  if (cfg_.system.final_global_ba) {
+    BAParams ba = cfg_.mapper.ba;
+    ba.iterations_first = cfg_.system.final_ba_iterations;
+    ba.iterations_second = cfg_.system.final_ba_iterations;
+    final_ba_ = globalBundleAdjust(map_, ba);
   }
 }
 

@@ -13,6 +13,7 @@
 #include "features/orb_extractor.h"
 #include "map/map.h"
 #include "mapping/local_mapper.h"
+#include "mapping/map_ba_problem.h"
 #include "system/system_config.h"
 #include "tracking/tracker.h"
 
@@ -32,8 +33,12 @@ class SlamSystem {
   void setPreprocessor(ObservationPreprocessor* p) { preprocessor_ = p; }
 
   FrameOutcome process(const RGBDFrame& frame);
-  /// Finishes pending mapping work and stops the mapping thread.
+  /// Finishes pending mapping work, stops the mapping thread and, if
+  /// configured, runs a global bundle adjustment over the whole map (the
+  /// trajectory follows through the reference keyframes).
   void finish();
+  /// The end-of-run global BA (keyframes == 0 when it did not run).
+  const GlobalBAResult& finalBundleAdjustment() const { return final_ba_; }
 
   /// Every tracked frame, camera-to-world, with poses re-expressed through
   /// their reference keyframes' final poses.
@@ -55,6 +60,8 @@ class SlamSystem {
   ObservationPreprocessor* preprocessor_ = nullptr;
   StageTimes times_;
   cv::Mat gray_;
+  bool finished_ = false;
+  GlobalBAResult final_ba_;
 };
 
 }  // namespace dynslam

@@ -21,6 +21,8 @@ SlamConfig loadSlamConfig(const std::string& path) {
       .read("depth_edge_window", c.system.depth_edge_window)
       .read("depth_edge_ratio", c.system.depth_edge_ratio)
       .read("depth_time_compensation", c.system.depth_time_compensation)
+      .read("final_global_ba", c.system.final_global_ba)
+      .read("final_ba_iterations", c.system.final_ba_iterations)
       .read("prefetch_frames", c.system.prefetch_frames);
   s.rejectUnknownKeys();
 

@@ -30,6 +30,10 @@ struct SystemParams {
   /// Read keypoint depths where the scene was at the depth image's timestamp
   /// (constant-velocity prediction), not at the RGB image's.
   bool depth_time_compensation = true;
+  /// After the last frame, one bundle adjustment over all keyframes and map
+  /// points (the first keyframe fixed), with this many iterations per stage.
+  bool final_global_ba = true;
+  int final_ba_iterations = 10;
 };
 
 struct SlamConfig {
