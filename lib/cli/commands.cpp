@@ -21,6 +21,8 @@ const std::vector<Subcommand>& subcommands() {
       {"export", "fuse a run's static keyframes into a dense map (PLY or glTF .glb)",
        exportMain},
       {"render", "render an off-screen snapshot (PNG) of a map", renderMain},
+      {"vocab", "train an ORB bag-of-words vocabulary, or describe one", vocabMain},
+      {"bench", "benchmark suite: sequences x modes x runs, Markdown/JSON report, plots", benchMain},
   };
   return cmds;
 }

@@ -37,5 +37,7 @@ int runMain(int argc, char** argv);
 int evalMain(int argc, char** argv);
 int exportMain(int argc, char** argv);
 int renderMain(int argc, char** argv);
+int vocabMain(int argc, char** argv);
+int benchMain(int argc, char** argv);
 
 }  // namespace dynslam::cli

@@ -136,6 +136,20 @@ AteResult computeAte(const Trajectory& groundtruth, const Trajectory& estimate, 
   return r;
 }
 
+std::vector<Eigen::Vector3d> alignedEstimatePositions(const Trajectory& estimate,
+                                                      const AteResult& ate) {
+  std::vector<Eigen::Vector3d> out;
+  out.reserve(ate.matches.size());
+  const Eigen::Matrix3d R = ate.alignment.topLeftCorner<3, 3>();
+  const Eigen::Vector3d t = ate.alignment.topRightCorner<3, 1>();
+  for (const auto& [gt_index, est_index] : ate.matches) {
+    (void)gt_index;
+    const auto& p = estimate.at(est_index).pose;
+    out.push_back(R * Eigen::Vector3d(p.x(), p.y(), p.z()) + t);
+  }
+  return out;
+}
+
 std::string RpeDelta::label() const {
   char b[48];
   if (unit == Unit::kSeconds)

@@ -87,6 +87,12 @@ struct AteResult {
 AteResult computeAte(const Trajectory& groundtruth, const Trajectory& estimate,
                      double max_dt = kDefaultMaxDt);
 
+/// The associated estimate positions mapped into the groundtruth frame by
+/// ate.alignment, in ate.matches order (so element k has error ate.errors[k]).
+/// Plots use this so that what they draw is exactly what the ATE measured.
+std::vector<Eigen::Vector3d> alignedEstimatePositions(const Trajectory& estimate,
+                                                      const AteResult& ate);
+
 struct RpeDelta {
   enum class Unit { kSeconds, kFrames };
   double value = 1.0;

@@ -3,6 +3,9 @@
 #include <sys/resource.h>
 
 #include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
 #include <chrono>
 #include <filesystem>
 #include <iomanip>
@@ -65,6 +68,14 @@ std::string yamlQuote(const std::string& s) {
   return o + "\"";
 }
 
+/// The latest sample of a stage if it was recorded for frame `i` (NaN if not).
+double latestStageMs(const StageTimes& times, const std::string& stage, std::size_t i) {
+  const auto& names = times.stages();
+  if (std::find(names.begin(), names.end(), stage) == names.end()) return std::nan("");
+  const std::vector<double>& v = times.samples(stage);
+  return v.size() == i + 1 ? v.back() : std::nan("");
+}
+
 }  // namespace
 
 RunSummary runSlam(const RunOptions& opt) {
@@ -100,6 +111,7 @@ RunSummary runSlam(const RunOptions& opt) {
   FramePrefetcher frames(*source, n, static_cast<std::size_t>(std::max(0, cfg.system.prefetch_frames)));
   ProgressLine progress("frame", n);
   std::vector<double> read_ms;
+  std::vector<std::array<double, 3>> frame_times;  // timestamp, track, frame_total
   std::size_t tracked = 0, lost = 0;
   long first_lost = -1;
   const auto t0 = std::chrono::steady_clock::now();
@@ -108,6 +120,8 @@ RunSummary runSlam(const RunOptions& opt) {
     const RGBDFrame frame = frames.next(&load);
     read_ms.push_back(load);
     const FrameOutcome out = slam.process(frame);
+    frame_times.push_back({frame.timestamp, latestStageMs(slam.times(), "track", i),
+                           latestStageMs(slam.times(), "frame_total", i)});
     if (!masks_dir.empty()) {
       const std::string mask_path = masks_dir + "/" +
           std::filesystem::path(frame.rgb_source).stem().string() + ".png";
@@ -151,6 +165,14 @@ RunSummary runSlam(const RunOptions& opt) {
   writeTumTrajectory(dir + "/trajectory.txt", slam.frameTrajectory(), header);
   writeTumTrajectory(dir + "/keyframes.txt", slam.keyFrameTrajectory(), header + " (keyframes)");
   writeMapPoints(dir + "/map_points.txt", slam.map());
+  writeFileAtomically(dir + "/frame_times.txt", [&](std::ostream& os) {
+    os << "# timestamp track_ms frame_total_ms (one line per frame, read by `dynslam bench`)\n";
+    char line[96];
+    for (const auto& [t, track, total] : frame_times) {
+      std::snprintf(line, sizeof line, "%.6f %.4f %.4f\n", t, track, total);
+      os << line;
+    }
+  });
   if (!keyframe_masks.empty()) {
     // Per-keyframe dynamic pixels, so `dynslam export` leaves movers out.
     makeDirectories(dir + "/dynamic_masks");

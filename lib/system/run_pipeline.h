@@ -8,6 +8,7 @@
 //   keyframes.txt    final keyframe poses, TUM format
 //   map_points.txt   "x y z r g b" per map point (world frame)
 //   run_info.yaml    input path, camera config, config, mode
+//   frame_times.txt  per frame: timestamp, track and frame_total ms
 //   report.json      counts, per-stage times, fps, peak memory
 #include <string>
 

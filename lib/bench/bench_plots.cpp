@@ -1,0 +1,46 @@
+#include "bench/bench_plots.h"
+
+#include <cstdio>
+
+#include "bench/trajectory_plots.h"
+#include "core/trajectory.h"
+
+namespace dynslam {
+
+void writeBenchPlots(BenchReport& report, const std::string& out_dir,
+                     const std::function<void(const std::string&)>& progress) {
+  const BenchResults& res = report.results();
+  for (const ModeSummary& m : report.summaries()) {
+    if (m.representative_run == 0) continue;
+    const RunRecord* run = nullptr;
+    for (const RunRecord& r : res.runs)
+      if (r.sequence == m.sequence && r.mode == m.mode && r.run == m.representative_run) run = &r;
+    const SequenceInfo* seq = nullptr;
+    for (const SequenceInfo& s : res.sequences)
+      if (s.name == m.sequence) seq = &s;
+    if (!run || !seq) continue;
+    const std::string rel = m.sequence + "/" + m.mode + "/";
+    const std::string label = m.sequence + ", " + m.mode + ", run " + std::to_string(run->run);
+    try {
+      if (run->evaluation) {
+        const Trajectory gt = readTumTrajectory(seq->groundtruth);
+        const Trajectory est = readTumTrajectory(run->dir + "/trajectory.txt");
+        const TrajectoryPlotData data = TrajectoryPlotData::fromAte(gt, est, run->evaluation->ate);
+        char ate[64];
+        std::snprintf(ate, sizeof ate, ": ATE RMSE %.4f m", run->evaluation->ate.stats.rmse);
+        writePng(out_dir + "/" + rel + "trajectory_top.png", TopViewPlot(data).render(label + ate));
+        report.addPlot(m.sequence, m.mode, rel + "trajectory_top.png");
+        writePng(out_dir + "/" + rel + "trajectory_xyz.png",
+                 plotPositionsOverTime(data, label + ": position against time"));
+        report.addPlot(m.sequence, m.mode, rel + "trajectory_xyz.png");
+      }
+      writePng(out_dir + "/" + rel + "frame_times.png",
+               plotFrameTimes(run->times, label + ": time per frame"));
+      report.addPlot(m.sequence, m.mode, rel + "frame_times.png");
+    } catch (const std::exception& e) {
+      if (progress) progress("plot of " + label + " failed: " + e.what());
+    }
+  }
+}
+
+}  // namespace dynslam
