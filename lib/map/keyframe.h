@@ -28,6 +28,8 @@ class KeyFrame {
   CameraPose pose;
   std::vector<MapPoint*> points;  ///< per keypoint, nullptr if none
   bool bad = false;
+  /// Never culled (keyframes of a closed loop: the pose graph refers to them).
+  bool keep = false;
 
   // Spanning tree
   KeyFrame* parent = nullptr;

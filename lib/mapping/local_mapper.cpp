@@ -71,12 +71,28 @@ void LocalMapper::processPending() {
   }
 }
 
+void LocalMapper::pause() {
+  if (!threaded_) return;
+  std::unique_lock<std::mutex> lk(queue_mutex_);
+  ++pause_requests_;
+  cv_.wait(lk, [&] { return !busy_; });
+}
+
+void LocalMapper::resume() {
+  if (!threaded_) return;
+  {
+    std::lock_guard<std::mutex> lk(queue_mutex_);
+    if (pause_requests_ > 0) --pause_requests_;
+  }
+  cv_.notify_all();
+}
+
 void LocalMapper::run() {
   for (;;) {
     KeyFrame* kf = nullptr;
     {
       std::unique_lock<std::mutex> lk(queue_mutex_);
-      cv_.wait(lk, [&] { return stop_ || !queue_.empty(); });
+      cv_.wait(lk, [&] { return stop_ || (!queue_.empty() && pause_requests_ == 0); });
       if (queue_.empty()) return;  // stop requested and nothing left
       kf = queue_.front();
       queue_.pop_front();
@@ -126,6 +142,7 @@ void LocalMapper::processKeyFrame(KeyFrame* kf) {
     std::lock_guard<std::mutex> lk(map_.mutex());
     cullKeyFrames(kf);
   }
+  if (listener_ && !kf->bad) listener_->keyFrameMapped(kf);
   std::lock_guard<std::mutex> lk(stats_mutex_);
   stats_.keyframes_processed++;
   stats_.step_ms.push_back(msSince(t0));
@@ -322,7 +339,7 @@ void LocalMapper::bundleAdjust(KeyFrame* kf) {
 void LocalMapper::cullKeyFrames(KeyFrame* kf) {
   const std::vector<KeyFrame*> neighbours = kf->orderedCovisibles();  // setBad() edits the list
   for (KeyFrame* n : neighbours) {
-    if (n->id == 0 || n->bad) continue;
+    if (n->id == 0 || n->bad || n->keep) continue;
     const FeatureSet& f = n->f();
     const FrameContext& ctx = *f.ctx;
     int points = 0, redundant = 0;
@@ -342,6 +359,7 @@ void LocalMapper::cullKeyFrames(KeyFrame* kf) {
     }
     if (points > 0 && redundant > p_.redundant_ratio * points) {
       n->setBad();
+      if (listener_) listener_->keyFrameCulled(n);
       std::lock_guard<std::mutex> lk(stats_mutex_);
       stats_.culled_keyframes++;
     }

@@ -40,6 +40,18 @@ struct LocalMapperParams {
   BAParams ba;
 };
 
+/// Told about each keyframe once the mapper has finished with it (its map
+/// points and covisibility are final for now) and about culled keyframes; the
+/// loop closer indexes keyframes for place recognition through it.
+class MappedKeyFrameListener {
+ public:
+  virtual ~MappedKeyFrameListener() = default;
+  /// Called in the mapping thread (or in processPending()).
+  virtual void keyFrameMapped(KeyFrame* kf) = 0;
+  /// Called with the map mutex held.
+  virtual void keyFrameCulled(KeyFrame* kf) = 0;
+};
+
 class LocalMapper : public KeyFrameSink {
  public:
   /// threaded = false: keyframes queue up until processPending() is called.
@@ -55,6 +67,13 @@ class LocalMapper : public KeyFrameSink {
   /// Waits until the queue is empty and the mapper idle (threaded mode).
   void flush();
   void stop();
+  /// Threaded mode: returns once the mapper is between keyframes and keeps it
+  /// there (keyframes queue up) until resume(). Loop correction and global BA
+  /// use it so that no local BA or culling interleaves with them.
+  void pause();
+  void resume();
+  /// Optional; not owned. Set before the first keyframe.
+  void setListener(MappedKeyFrameListener* l) { listener_ = l; }
 
   struct Stats {
     std::size_t keyframes_processed = 0, culled_keyframes = 0, new_points = 0, ba_runs = 0;
@@ -82,6 +101,8 @@ class LocalMapper : public KeyFrameSink {
   std::deque<KeyFrame*> queue_;
   std::atomic<bool> busy_{false};
   std::atomic<bool> stop_{false};
+  int pause_requests_ = 0;
+  MappedKeyFrameListener* listener_ = nullptr;
   bool threaded_;
   std::thread thread_;
   mutable std::mutex stats_mutex_;

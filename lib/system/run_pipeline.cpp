@@ -261,6 +261,26 @@ RunSummary runSlam(const RunOptions& opt) {
   writeStats(w, "ba_ms", ms.ba_ms);
   writeStats(w, "keyframe_ms", ms.step_ms);
   w.endObject();
+  w.beginArray("relocalisations");
+  for (const auto& r : slam.relocalisations())
+    w.beginObject().value("frame", r.frame_index).value("keyframe", static_cast<int64_t>(r.keyframe_id)).endObject();
+  w.endArray();
+  const loop::LoopClosingStats ls = slam.loopStats();
+  w.beginObject("loop_closing")
+      .value("keyframes_indexed", ls.keyframes_indexed)
+      .value("keyframes_checked", ls.keyframes_checked)
+      .value("candidates", ls.candidates)
+      .value("verifications", ls.verifications)
+      .value("loops_closed", ls.loops_closed)
+      .value("relocalisation_queries", ls.relocalisation_queries);
+  w.beginArray("loops");
+  for (const auto& [cur, lp] : ls.loops)
+    w.beginObject().value("keyframe", static_cast<int64_t>(cur)).value("loop_keyframe", static_cast<int64_t>(lp)).endObject();
+  w.endArray();
+  writeStats(w, "detect_ms", ls.detect_ms);
+  writeStats(w, "correct_ms", ls.correct_ms);
+  writeStats(w, "global_ba_ms", ls.global_ba_ms);
+  w.endObject();
   const GlobalBAResult& gba = slam.finalBundleAdjustment();
   w.beginObject("final_global_ba")
       .value("keyframes", gba.keyframes)

@@ -22,6 +22,13 @@ SlamSystem::SlamSystem(const SlamConfig& config, const PinholeCamera& camera)
   ctx_->depth_edge_ratio = cfg_.system.depth_edge_ratio;
   mapper_ = std::make_unique<LocalMapper>(map_, cfg_.mapper, !cfg_.system.deterministic);
   tracker_ = std::make_unique<Tracker>(map_, *mapper_, cfg_.tracker, cfg_.pose_optimizer);
+  if (cfg_.loop.enabled) {
+    auto voc = std::make_shared<const OrbVocabulary>(OrbVocabulary::load(cfg_.loop.vocabulary));
+    loop_ = std::make_unique<loop::LoopClosing>(map_, *mapper_, std::move(voc), cfg_.loop,
+                                                !cfg_.system.deterministic);
+    mapper_->setListener(loop_.get());
+    tracker_->setCandidateSource(loop_.get());
+  }
 }
 
 SlamSystem::~SlamSystem() { finish(); }
@@ -64,6 +71,14 @@ void SlamSystem::finish() {
   if (finished_) return;
   finished_ = true;
   mapper_->flush();
+  if (loop_) {
+    // A loop closure pauses the mapper, which may then map queued keyframes
+    // that the loop closer checks in turn.
+    loop_->flush();
+    mapper_->flush();
+    loop_->flush();
+    loop_->stop();
+  }
   mapper_->stop();
   if (cfg_.system.final_global_ba) {
     BAParams ba = cfg_.mapper.ba;

@@ -12,6 +12,7 @@
 #include "core/trajectory.h"
 #include "features/orb_extractor.h"
 #include "map/map.h"
+#include "loop/loop_closing.h"
 #include "mapping/local_mapper.h"
 #include "mapping/map_ba_problem.h"
 #include "system/system_config.h"
@@ -48,7 +49,10 @@ class SlamSystem {
   Map& map() { return map_; }
   const StageTimes& times() const { return times_; }
   LocalMapper::Stats mapperStats() const { return mapper_->stats(); }
+  /// Empty stats when loop closing is disabled.
+  loop::LoopClosingStats loopStats() const { return loop_ ? loop_->stats() : loop::LoopClosingStats{}; }
   const FrameContext& context() const { return *ctx_; }
+  const std::vector<Tracker::Relocalisation>& relocalisations() const { return tracker_->relocalisations(); }
 
  private:
   SlamConfig cfg_;
@@ -57,6 +61,7 @@ class SlamSystem {
   Map map_;
   std::unique_ptr<LocalMapper> mapper_;
   std::unique_ptr<Tracker> tracker_;
+  std::unique_ptr<loop::LoopClosing> loop_;
   ObservationPreprocessor* preprocessor_ = nullptr;
   StageTimes times_;
   cv::Mat gray_;

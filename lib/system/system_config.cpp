@@ -53,6 +53,7 @@ SlamConfig loadSlamConfig(const std::string& path) {
       .read("init_min_points", t.init_min_points)
       .read("temporal_points", t.temporal_points)
       .read("reloc_candidates", t.reloc_candidates)
+      .read("reloc_recent", t.reloc_recent)
       .read("reloc_min_matches", t.reloc_min_matches)
       .read("reloc_min_inliers", t.reloc_min_inliers);
   tr.rejectUnknownKeys();
@@ -110,6 +111,27 @@ SlamConfig loadSlamConfig(const std::string& path) {
       .read("lk_window", d.motion.lk_window);
   mo.rejectUnknownKeys();
   dy.rejectUnknownKeys();
+
+  loop::LoopClosingParams& l = c.loop;
+  ConfigSection lc = root.sub("loop_closing");
+  std::string vocabulary;
+  lc.read("enabled", l.enabled)
+      .read("vocabulary", vocabulary)
+      .read("close_loops", l.close_loops)
+      .read("min_map_keyframes", l.min_map_keyframes)
+      .read("min_keyframes_between", l.min_keyframes_between)
+      .read("consistency", l.consistency)
+      .read("max_hamming", l.max_hamming)
+      .read("ratio", l.ratio)
+      .read("min_inliers", l.min_inliers)
+      .read("global_ba", l.global_ba);
+  lc.rejectUnknownKeys();
+  // "" = the vocabulary shipped in configs/; relative = next to this file.
+  const std::filesystem::path vp(vocabulary);
+  l.vocabulary = vocabulary.empty()  ? configDir() + "/orb_vocab_k10_L5.bin"
+                 : vp.is_absolute() ? vocabulary
+                                    : (std::filesystem::path(path).parent_path() / vp).string();
+  l.global_ba_params = c.mapper.ba;
 
   root.rejectUnknownKeys();
   return c;

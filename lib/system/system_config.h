@@ -6,6 +6,7 @@
 
 #include "dynamic/dynamic_feature_filter.h"
 #include "features/orb_extractor.h"
+#include "loop/loop_closing.h"
 #include "mapping/local_mapper.h"
 #include "optim/pose_optimizer.h"
 #include "tracking/tracker.h"
@@ -29,7 +30,7 @@ struct SystemParams {
   int prefetch_frames = 4;
   /// Read keypoint depths where the scene was at the depth image's timestamp
   /// (constant-velocity prediction), not at the RGB image's.
-  bool depth_time_compensation = true;
+  bool depth_time_compensation = false;
   /// After the last frame, one bundle adjustment over all keyframes and map
   /// points (the first keyframe fixed), with this many iterations per stage.
   bool final_global_ba = true;
@@ -44,11 +45,13 @@ struct SlamConfig {
   LocalMapperParams mapper;
   /// Dynamic-feature rejection; use_detector / use_flow are set by the mode.
   DynamicFilterParams dynamic;
+  /// Place recognition, BoW relocalisation and loop closing.
+  loop::LoopClosingParams loop;
   std::string source;  ///< file it was read from ("" = built-in defaults)
 };
 
 /// Reads a config YAML (sections system, orb, tracker, pose_optimizer,
-/// local_mapper); missing keys keep their defaults, unknown keys are an error
+/// local_mapper, dynamic, loop_closing); missing keys keep their defaults, unknown keys are an error
 /// naming the file.
 SlamConfig loadSlamConfig(const std::string& path);
 

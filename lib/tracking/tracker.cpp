@@ -226,9 +226,20 @@ bool Tracker::trackReferenceKeyFrame() {
 }
 
 bool Tracker::relocalize() {
-  std::vector<KeyFrame*> kfs = map_.keyFrames();
-  std::reverse(kfs.begin(), kfs.end());
+  // Keyframes that look like the frame (bag of words) first, then the most
+  // recent ones (a short dropout usually ends where it began).
+  std::vector<KeyFrame*> kfs;
+  if (candidate_source_) kfs = candidate_source_->relocalisationCandidates(cur_.f());
   if (static_cast<int>(kfs.size()) > p_.reloc_candidates) kfs.resize(p_.reloc_candidates);
+  std::vector<KeyFrame*> recent = map_.keyFrames();
+  std::reverse(recent.begin(), recent.end());
+  int added = 0;
+  for (KeyFrame* kf : recent) {
+    if (added >= p_.reloc_recent) break;
+    if (kf->bad || std::find(kfs.begin(), kfs.end(), kf) != kfs.end()) continue;
+    kfs.push_back(kf);
+    ++added;
+  }
   const FeatureSet& f = cur_.f();
   for (KeyFrame* kf : kfs) {
     std::fill(cur_.points.begin(), cur_.points.end(), nullptr);
@@ -270,6 +281,7 @@ bool Tracker::relocalize() {
     if (good >= p_.reloc_min_inliers) {
       ref_kf_ = kf;
       cur_.ref_kf = kf;
+      relocalisations_.push_back({cur_.index, kf->id});
       return true;
     }
   }

@@ -35,9 +35,10 @@ struct TrackerParams {
   /// motion model. Off by default: they chain each pose to the previous
   /// estimate (drift) instead of the map; useful for map-less tracking only.
   bool temporal_points = false;
-  /// When lost: keyframes tried for relocalisation (most recent first), and
-  /// the descriptor matches / PnP inliers a candidate needs.
-  int reloc_candidates = 20;
+  /// When lost: keyframes tried for relocalisation, and the descriptor
+  /// matches / PnP inliers a candidate needs.
+  int reloc_candidates = 10;  ///< place-recognition candidates tried when lost
+  int reloc_recent = 10;      ///< ...then this many of the most recent keyframes
   int reloc_min_matches = 30;
   int reloc_min_inliers = 30;
 };
@@ -52,6 +53,15 @@ class KeyFrameSink {
   /// True when the sink can take a keyframe now without queueing.
   virtual bool idle() const = 0;
   virtual std::size_t queued() const = 0;
+};
+
+/// Where relocalisation looks first: keyframes that look like the lost frame
+/// (place recognition), best first. The tracker adds the most recent
+/// keyframes itself. Called with the map mutex held.
+class RelocalisationCandidateSource {
+ public:
+  virtual ~RelocalisationCandidateSource() = default;
+  virtual std::vector<KeyFrame*> relocalisationCandidates(const FeatureSet& f) = 0;
 };
 
 struct TrackResult {
@@ -73,6 +83,8 @@ class Tracker {
                     double timestamp);
 
   TrackingState state() const { return state_; }
+  /// Optional; not owned.
+  void setCandidateSource(RelocalisationCandidateSource* s) { candidate_source_ = s; }
 
   /// Constant-velocity prediction of the camera's motion over `dt` seconds
   /// after the last tracked frame: the pose at t+dt in the camera frame at t.
@@ -90,6 +102,14 @@ class Tracker {
     mrpt::poses::CPose3D rel;  ///< pose relative to ref_kf
   };
   const std::vector<FramePoseRecord>& records() const { return records_; }
+
+  /// Frames where tracking came back by relocalisation (a revisit or the end
+  /// of a blackout), with the keyframe it relocalised against.
+  struct Relocalisation {
+    std::size_t frame_index;
+    long keyframe_id;
+  };
+  const std::vector<Relocalisation>& relocalisations() const { return relocalisations_; }
 
  private:
   bool initialize();
@@ -128,6 +148,8 @@ class Tracker {
   std::vector<MapPoint*> local_points_;
   std::vector<std::unique_ptr<MapPoint>> temp_points_;
   std::vector<FramePoseRecord> records_;
+  RelocalisationCandidateSource* candidate_source_ = nullptr;
+  std::vector<Relocalisation> relocalisations_;
 };
 
 }  // namespace dynslam
