@@ -104,7 +104,8 @@ cv::Mat MapRenderer::renderFromPose(const MapData& map, const mrpt::poses::CPose
   }
   if (options_.draw_frustums && !map.keyframes.empty()) {
     double depth = options_.frustum_depth;
-    if (depth <= 0) depth = 0.06 * frameScene(map, options_.up).radius;
+    // The radius does not depend on up: skip the plane search for it.
+    if (depth <= 0) depth = 0.06 * frameScene(map, options_.up.value_or(std::array<double, 3>{0, 0, 1})).radius;
     const auto to_optical = xForwardToOptical();
     for (const auto& kf : map.keyframes) {
       // 4:3 Kinect-like frustum (62 x 48 degrees).

@@ -9,6 +9,8 @@
 #include <stdexcept>
 #include <vector>
 
+#include "mapexport/up_estimation.h"
+
 namespace dynslam {
 namespace {
 
@@ -91,7 +93,7 @@ ViewSpec ViewSpec::parse(const std::string& text) {
 
 SceneFrame frameScene(const MapData& map, const std::optional<std::array<double, 3>>& up) {
   SceneFrame f;
-  f.up = up ? normalised(*up) : estimateUpDirection(map.keyframes);
+  f.up = up ? normalised(*up) : estimateMapUp(map).up;
   if (!map.points.empty()) {
     std::vector<float> c(map.points.size());
     for (int k = 0; k < 3; ++k) {

@@ -1,8 +1,8 @@
 #pragma once
 // Named viewpoints for map snapshots, so that snapshots of different runs are
 // comparable without hand-placing a camera: the view is derived from the map
-// itself (robust centre and radius of the points) and from the keyframes
-// (which way is up, which way the camera mostly looked).
+// itself (robust centre and radius of the points, the floor / desk plane for
+// up) and from the keyframes (which way the camera mostly looked).
 #include <mrpt/poses/CPose3D.h>
 
 #include <array>
@@ -33,7 +33,8 @@ struct SceneFrame {
   std::array<double, 3> forward{1, 0, 0};  ///< horizontal, perpendicular to up
 };
 
-/// up: override (e.g. {0,0,1}); default estimateUpDirection(keyframes).
+/// up: override (e.g. {0,0,1}); default estimateMapUp(map) (dominant
+/// horizontal plane, see mapexport/up_estimation.h).
 /// forward: mean keyframe viewing direction projected on the horizontal
 /// plane, or the world axis most perpendicular to up if there is none.
 SceneFrame frameScene(const MapData& map,

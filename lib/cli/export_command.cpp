@@ -25,7 +25,11 @@ constexpr const char* kDescription =
     "voxel grid and statistical outlier removal. The extension of -o picks the format: .ply "
     "(binary, coloured points) or .glb (glTF 2.0: points, trajectory, keyframe frustums and "
     "poses). If RUN_DIR/map_points.txt exists, the sparse map is also written as "
-    "<MAP>_sparse.ply.";
+    "<MAP>_sparse.ply. A report <MAP>.export.json gives point counts, phase times, peak "
+    "memory and the estimated up direction; when the input sequence has ground-truth "
+    "people masks (INPUT/masks/<rgb name>.png: 0 static, 1..127 walking, 128+ standing "
+    "still), it also gives walker_mask_share: the share of map points fused from walking "
+    "people's pixels (standing-still people and the sparse map reported apart).";
 
 }  // namespace
 
@@ -56,6 +60,11 @@ int exportMain(int argc, char** argv) {
                                   5, "PX", cmd);
   TCLAP::SwitchArg no_outliers_arg("", "no-outlier-removal",
                                    "skip statistical outlier removal (faster)", cmd, false);
+  TCLAP::ValueArg<std::string> truth_arg(
+      "", "truth-masks",
+      "ground-truth people masks folder (<rgb name>.png) to score the map against; default "
+      "INPUT/masks if the input folder has one; 'none' to skip",
+      false, "", "DIR", cmd);
   int exit_code = kOk;
   if (!parseArguments(cmd, argc, argv, exit_code)) return exit_code;
 
@@ -76,12 +85,31 @@ int exportMain(int argc, char** argv) {
   // TUM folders list their timestamps: only keyframes get decoded.
   std::vector<double> stamps;
   if (isDirectory(run.input)) stamps = tumPairTimestamps(run.input);
-  const ExportResult r = exportRun(run, *source, out_arg.getValue(), options,
-                                   stamps.size() == source->size() ? &stamps : nullptr);
-  std::printf("%s: %zu points (%zu back-projected from %zu keyframes, %zu after voxel grid)\n",
+  ExportOptions eo;
+  eo.frame_timestamps = stamps.size() == source->size() ? &stamps : nullptr;
+  if (truth_arg.isSet()) eo.truth_masks_dir = truth_arg.getValue() == "none" ? "" : truth_arg.getValue();
+  const ExportResult r = exportRun(run, *source, out_arg.getValue(), options, eo);
+  std::printf("%s: %zu points (%zu back-projected from %zu keyframes, %zu after voxel grid)"
+              " in %.2f s, peak %.0f MB\n",
               out_arg.getValue().c_str(), r.points_written, r.stats.backprojected_points,
-              r.stats.keyframes, r.stats.after_voxel);
+              r.stats.keyframes, r.stats.after_voxel, r.seconds, r.peak_rss_mb);
+  std::printf("up %.4f,%.4f,%.4f (%s; %.1f deg from the keyframe estimate)\n", r.up.up[0],
+              r.up.up[1], r.up.up[2], r.up.source.c_str(), r.up.prior_angle_deg);
   if (!r.sparse_path.empty()) std::printf("%s: sparse map points\n", r.sparse_path.c_str());
+  if (r.dense_truth) {
+    std::printf("walker_mask_share %.4f %% (%zu of %zu points), standing-still %.4f %% (%zu)\n",
+                100 * r.dense_truth->walkerShare(), r.dense_truth->walker_points,
+                r.dense_truth->points, 100 * r.dense_truth->standingShare(),
+                r.dense_truth->standing_points);
+  }
+  if (r.sparse_truth) {
+    std::printf("sparse walker_mask_share %.4f %% (%zu of %zu observed points, %zu unobserved), "
+                "standing-still %.4f %%\n",
+                100 * r.sparse_truth->walkerShare(), r.sparse_truth->walker_points,
+                r.sparse_truth->points, r.sparse_truth->unobserved_points,
+                100 * r.sparse_truth->standingShare());
+  }
+  if (!r.report_path.empty()) std::printf("%s: export report\n", r.report_path.c_str());
   return kOk;
 }
 

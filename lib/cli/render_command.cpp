@@ -1,6 +1,7 @@
 // `dynslam render MAP.ply|MAP.glb -o OUT.png`: thin argument layer over
 // render/ (off-screen OSMesa snapshots of an exported map).
 #include <mrpt/3rdparty/tclap/CmdLine.h>
+#include <mrpt/math/CQuaternion.h>
 
 #include <array>
 #include <cstdio>
@@ -11,6 +12,7 @@
 #include "core/errors.h"
 #include "core/trajectory.h"
 #include "mapexport/map_data.h"
+#include "mapexport/up_estimation.h"
 #include "render/map_renderer.h"
 #include "render/snapshot_file.h"
 #include "render/view_spec.h"
@@ -22,8 +24,9 @@ constexpr const char* kDescription =
     "Off-screen snapshot (PNG) of a map written by `dynslam export`: coloured points, the "
     "keyframe trajectory (red) and keyframe frustums (blue). Needs no display or GPU (Mesa "
     "OSMesa software rendering). Named views are framed on the map (median centre, 95 % "
-    "radius, keyframes included); 'up' is estimated from the keyframes (cameras held upright) "
-    "or given with --up. Keyframes come from a .glb map or from --trajectory.";
+    "radius, keyframes included); 'up' is the normal of the largest floor / desk plane "
+    "(RANSAC; the plane must face the cameras and lie within 60 deg of the keyframes' mean "
+    "image-up axis), else that axis, or given with --up. Keyframes come from a .glb map or from --trajectory.";
 
 /// "a,b,c" -> three numbers; throws std::invalid_argument naming `what`.
 std::array<double, 3> parseTriple(const std::string& text, const std::string& what) {
@@ -68,7 +71,9 @@ int renderMain(int argc, char** argv) {
   TCLAP::ValueArg<std::string> bg_arg("", "background", "background colour R,G,B (0-255)",
                                       false, "255,255,255", "R,G,B", cmd);
   TCLAP::ValueArg<std::string> up_arg(
-      "", "up", "world up direction x,y,z (default: estimated from the keyframes, else +z)",
+      "", "up",
+      "world up direction x,y,z (default: floor / desk plane normal, else the keyframes' "
+      "image-up axis, else +z)",
       false, "", "X,Y,Z", cmd);
   TCLAP::SwitchArg no_frustums_arg("", "no-frustums", "do not draw keyframe frustums", cmd,
                                    false);
@@ -95,12 +100,29 @@ int renderMain(int argc, char** argv) {
   MapData map = readMapFile(map_arg.getValue());
   if (traj_arg.isSet()) map.keyframes = readTumTrajectory(traj_arg.getValue());
 
+  std::string up_note = "given";
+  if (!o.up) {
+    const UpEstimate up = estimateMapUp(map);
+    o.up = up.up;
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "%s, %.1f deg from the keyframe estimate", up.source.c_str(),
+                  up.prior_angle_deg);
+    up_note = buf;
+  }
   MapRenderer renderer(o);
-  const cv::Mat image = renderer.render(map, view);
+  const mrpt::poses::CPose3D camera_pose = renderer.cameraPose(map, view);
+  const cv::Mat image = renderer.renderFromPose(map, camera_pose);
   writePngAtomically(out_arg.getValue(), image);
-  std::printf("%s: %dx%d, %zu points, %zu keyframes, view %s\n", out_arg.getValue().c_str(),
-              image.cols, image.rows, map.points.size(), map.keyframes.size(),
-              view_arg.getValue().c_str());
+  std::printf("%s: %dx%d, %zu points, %zu keyframes, view %s, up %.4f,%.4f,%.4f (%s)\n",
+              out_arg.getValue().c_str(), image.cols, image.rows, map.points.size(),
+              map.keyframes.size(), view_arg.getValue().c_str(), (*o.up)[0], (*o.up)[1],
+              (*o.up)[2], up_note.c_str());
+  // The same viewpoint for other maps of the same world frame (e.g. runs of
+  // one sequence): pass this back as --view.
+  mrpt::math::CQuaternionDouble q;
+  camera_pose.getAsQuaternion(q);
+  std::printf("camera --view pose:%.4f,%.4f,%.4f,%.6f,%.6f,%.6f,%.6f\n", camera_pose.x(),
+              camera_pose.y(), camera_pose.z(), q.x(), q.y(), q.z(), q.w());
   return kOk;
 }
 

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 namespace dynslam {
 
@@ -64,8 +65,11 @@ float BoxDepthMasker::objectDepth(const cv::Mat& depth, double depth_scale,
 
 cv::Mat BoxDepthMasker::computeFromBoxes(const cv::Mat& depth, double depth_scale,
                                          const std::vector<Detection>& boxes,
-                                         std::vector<float>* object_depths_m) const {
+                                         std::vector<float>* object_depths_m,
+                                         const std::vector<float>* depth_hints_m) const {
   CV_Assert(depth.type() == CV_16UC1 && depth_scale > 0);
+  if (depth_hints_m && depth_hints_m->size() != boxes.size())
+    throw std::invalid_argument("BoxDepthMasker: one depth hint per box expected");
   cv::Mat mask(depth.size(), CV_8U, cv::Scalar(0));
   if (object_depths_m) object_depths_m->assign(boxes.size(), 0.f);
   const cv::Rect img(0, 0, depth.cols, depth.rows);
@@ -79,7 +83,8 @@ cv::Mat BoxDepthMasker::computeFromBoxes(const cv::Mat& depth, double depth_scal
                            int(std::ceil(d.box.y + d.box.height + py)))) &
         img;
     if (box.empty()) continue;
-    const float z = objectDepth(depth, depth_scale, box);
+    const float hint = depth_hints_m ? (*depth_hints_m)[i] : 0.f;
+    const float z = hint > 0 ? hint : objectDepth(depth, depth_scale, box);
     if (object_depths_m) (*object_depths_m)[i] = z;
     if (z <= 0) continue;
     const double lo = std::max(1.0, (z - params_.depth_band_m) * depth_scale);

@@ -47,9 +47,14 @@ class BoxDepthMasker {
   /// depth_scale units per metre (TUM: 5000). object_depths_m (optional)
   /// receives one value per box: the object depth, 0 when the box had no
   /// usable depth (or was skipped as non-dynamic).
+  /// depth_hints_m (optional, one per box): object depth (m) known from
+  /// elsewhere (e.g. the moving points inside the box), used instead of the
+  /// histogram where > 0: the histogram's nearest peak is the occluder when
+  /// a person walks behind a monitor or desk.
   cv::Mat computeFromBoxes(const cv::Mat& depth, double depth_scale,
                            const std::vector<Detection>& boxes,
-                           std::vector<float>* object_depths_m = nullptr) const;
+                           std::vector<float>* object_depths_m = nullptr,
+                           const std::vector<float>* depth_hints_m = nullptr) const;
 
   /// Dominant (nearest strong) depth in metres of the central part of `box`,
   /// 0 when there is no valid depth there.

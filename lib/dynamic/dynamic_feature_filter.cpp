@@ -1,12 +1,29 @@
 #include "dynamic/dynamic_feature_filter.h"
 
+#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+
 namespace dynslam {
+namespace {
+
+double msSince(int64 t0) {
+  return double(cv::getTickCount() - t0) * 1000.0 / cv::getTickFrequency();
+}
+
+}  // namespace
 
 DynamicFeatureFilter::DynamicFeatureFilter(const DynamicFilterParams& params,
                                            const PinholeCamera& camera)
-    : p_(params), camera_(camera), box_masker_(params.box_mask), motion_(params.motion) {
+    : p_(params),
+      camera_(camera),
+      box_masker_(params.box_mask),
+      carrier_(params.carrier),
+      motion_(params.motion) {
+  if (const char* d = std::getenv("DYNSLAM_DEBUG_DYNAMIC_DIR"); d && *d) debug_dir_ = d;
   if (p_.use_detector) {
     detector_ = std::make_unique<YoloDetector>(p_.detector);
     if (p_.async_detector) thread_ = std::thread([this] { detectorLoop(); });
@@ -20,6 +37,16 @@ DynamicFeatureFilter::~DynamicFeatureFilter() {
   }
   cv_.notify_all();
   if (thread_.joinable()) thread_.join();
+  if (const char* env = std::getenv("DYNSLAM_DEBUG_DYNAMIC"); env && *env && *env != '0') {
+    std::fprintf(stderr, "dynamic filter stage medians (ms) over %zu frames:",
+                 times_.count("total") ? times_.at("total").size() : std::size_t(0));
+    for (auto [name, v] : times_) {
+      if (v.empty()) continue;
+      std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+      std::fprintf(stderr, " %s %.2f", name.c_str(), v[v.size() / 2]);
+    }
+    std::fprintf(stderr, "; detector runs %zu\n", runs_);
+  }
 }
 
 std::size_t DynamicFeatureFilter::detectorRuns() const {
@@ -30,48 +57,214 @@ std::size_t DynamicFeatureFilter::detectorRuns() const {
 void DynamicFeatureFilter::detectorLoop() {
   for (;;) {
     cv::Mat img;
+    long frame = -1;
     {
       std::unique_lock<std::mutex> lk(m_);
       cv_.wait(lk, [&] { return stop_ || !pending_.empty(); });
       if (stop_) return;
       img = std::move(pending_);
       pending_ = cv::Mat();
+      frame = pending_frame_;
+      busy_ = true;
     }
     std::vector<Detection> boxes = detector_->detect(img);
     std::lock_guard<std::mutex> lk(m_);
-    boxes_ = std::move(boxes);
+    result_ = std::move(boxes);
+    result_frame_ = frame;
+    result_new_ = true;
+    busy_ = false;
     ++runs_;
   }
 }
 
-std::vector<Detection> DynamicFeatureFilter::latestBoxes(const cv::Mat& bgr) {
-  if (!detector_) return {};
-  if (!p_.async_detector) {
-    boxes_ = detector_->detect(bgr);
-    ++runs_;
-    return boxes_;
-  }
+void DynamicFeatureFilter::submitToDetector(const cv::Mat& bgr, long frame) {
+  if (!detector_ || !p_.async_detector) return;
+  if (frame - last_submitted_ < std::max(1, p_.detector_interval)) return;
+  last_submitted_ = frame;
   std::lock_guard<std::mutex> lk(m_);
   pending_ = bgr.clone();  // replaces a frame the detector has not started on
+  pending_frame_ = frame;
   cv_.notify_all();
-  return boxes_;
+}
+
+void DynamicFeatureFilter::collectDetections(const cv::Mat& bgr, long frame) {
+  if (!detector_) return;
+  if (!p_.async_detector) {
+    if (frame - last_submitted_ < std::max(1, p_.detector_interval)) return;
+    last_submitted_ = frame;
+    carrier_.addDetections(frame, detector_->detect(bgr));
+    ++runs_;
+    return;
+  }
+  std::vector<Detection> dets;
+  long det_frame = -1;
+  {
+    std::lock_guard<std::mutex> lk(m_);
+    if (!result_new_) return;
+    dets = std::move(result_);
+    det_frame = result_frame_;
+    result_new_ = false;
+  }
+  carrier_.addDetections(det_frame, dets);
+}
+
+void DynamicFeatureFilter::selectFlowPoints(const std::vector<cv::KeyPoint>& keypoints,
+                                            const std::vector<cv::Point2f>& carried,
+                                            const std::vector<uint8_t>& carried_age) {
+  const std::size_t n = keypoints.size();
+  const std::size_t cap = p_.max_flow_points > 0 ? std::size_t(p_.max_flow_points)
+                                                 : n + carried.size();
+  // Carried dynamic points first: they keep the walker's region alive.
+  prev_points_.assign(carried.begin(), carried.begin() + std::min(cap, carried.size()));
+  prev_age_.assign(carried_age.begin(), carried_age.begin() + prev_points_.size());
+  // Then an even subsample of the keypoints (the extractor already spreads
+  // them over the image, so a stride keeps that spread).
+  const std::size_t budget = cap - prev_points_.size();
+  if (budget == 0 || n == 0) return;
+  const double step = std::max(1.0, double(n) / double(budget));
+  for (double t = 0; std::size_t(t) < n && prev_points_.size() < cap; t += step) {
+    prev_points_.push_back(keypoints[std::size_t(t)].pt);
+    prev_age_.push_back(0);
+  }
 }
 
 void DynamicFeatureFilter::process(const RGBDFrame& frame, const cv::Mat& gray,
                                    const std::vector<cv::KeyPoint>& keypoints,
                                    std::vector<uint8_t>& dynamic) {
+  const int64 t_all = cv::getTickCount();
+  ++frame_;
   mask_ = cv::Mat::zeros(gray.size(), CV_8UC1);
-  const std::vector<Detection> boxes = latestBoxes(frame.rgb);
-  if (p_.use_detector && !boxes.empty())
-    mask_ |= box_masker_.computeFromBoxes(frame.depth, camera_.depth_scale, boxes);
+  const bool need_lk = p_.use_flow || (p_.use_detector && p_.carry_boxes);
+  if (p_.use_detector) submitToDetector(frame.rgb, frame_);
 
-  // The pipeline reuses its grey buffer for the next frame: keep a copy.
-  MotionFrame cur = motion_.makeFrame(gray.clone(), frame.depth);
-  if (p_.use_flow && have_prev_ && !prev_points_.empty()) {
-    const MotionResult r = motion_.check(prev_, cur, prev_points_, camera_, boxes);
-    if (!r.mask.empty()) mask_ |= r.mask;
-    for (std::size_t i = 0; i < r.dynamic.size(); ++i)
-      if (r.dynamic[i]) cv::circle(mask_, r.cur_points[i], 3, cv::Scalar(255), cv::FILLED);
+  // Pyramid of this frame (the pipeline reuses its grey buffer: keep a copy).
+  int64 t0 = cv::getTickCount();
+  MotionFrame cur;
+  if (need_lk) cur = motion_.makeFrame(gray.clone(), frame.depth);
+  times_["pyramid"].push_back(msSince(t0));
+
+  // LK of the previous frame's selected keypoints.
+  t0 = cv::getTickCount();
+  std::vector<uint8_t> tracked;
+  std::vector<cv::Point2f> cur_points;
+  const bool have_flow = need_lk && have_prev_ && !prev_points_.empty();
+  if (have_flow) cur_points = motion_.track(prev_, cur, prev_points_, tracked);
+  times_["lk"].push_back(msSince(t0));
+
+  // Detector boxes carried to this frame, and their depth mask.
+  t0 = cv::getTickCount();
+  boxes_now_.clear();
+  if (p_.use_detector) {
+    if (have_flow && p_.carry_boxes) {
+      FlowStep step;
+      step.to_frame = frame_;
+      for (std::size_t i = 0; i < tracked.size(); ++i)
+        if (tracked[i]) {
+          step.from.push_back(prev_points_[i]);
+          step.to.push_back(cur_points[i]);
+        }
+      carrier_.addFlow(std::move(step));
+    } else {
+      carrier_.advanceWithoutFlow(frame_);
+    }
+    collectDetections(frame.rgb, frame_);
+    boxes_now_ = carrier_.boxes();
+  }
+  double ms_boxes = msSince(t0);
+
+  // Motion check on the tracks, seeded also by the points carried as dynamic.
+  MotionResult r;
+  std::vector<cv::Point2f> carried;
+  std::vector<uint8_t> carried_age;
+  if (p_.use_flow && have_flow) {
+    r = motion_.classify(prev_points_, cur_points, tracked, prev_.depth, cur.depth, camera_,
+                         boxes_now_, gray.size(), &prev_age_);
+    cv::Mat motion_mask = r.mask;
+    if (!r.geometry.reliable && unreliable_run_ < p_.carry_frames && !prev_motion_mask_.empty()) {
+      // Blurred frame: no verdicts, so move the last motion mask along with
+      // the median flow of the carried points (of all points if none).
+      std::vector<float> dx, dy, gx, gy;
+      for (std::size_t i = 0; i < tracked.size(); ++i) {
+        if (!tracked[i]) continue;
+        auto& x = prev_age_[i] ? dx : gx;
+        auto& y = prev_age_[i] ? dy : gy;
+        x.push_back(cur_points[i].x - prev_points_[i].x);
+        y.push_back(cur_points[i].y - prev_points_[i].y);
+      }
+      if (dx.size() < 3) dx.swap(gx), dy.swap(gy);
+      if (!dx.empty()) {
+        std::nth_element(dx.begin(), dx.begin() + dx.size() / 2, dx.end());
+        std::nth_element(dy.begin(), dy.begin() + dy.size() / 2, dy.end());
+        const cv::Matx23f shift(1, 0, dx[dx.size() / 2], 0, 1, dy[dy.size() / 2]);
+        cv::warpAffine(prev_motion_mask_, motion_mask, shift, prev_motion_mask_.size(),
+                       cv::INTER_NEAREST);
+      }
+      ++unreliable_run_;
+    } else if (r.geometry.reliable) {
+      unreliable_run_ = 0;
+    }
+    prev_motion_mask_ = motion_mask;
+    if (!motion_mask.empty()) mask_ |= motion_mask;
+    if (!debug_dir_.empty()) debug_region_ = motion_mask.clone();
+    for (std::size_t i = 0; i < r.dynamic.size(); ++i) {
+      if (!tracked[i]) continue;
+      if (!r.dynamic[i] && !prev_age_[i]) continue;
+      if (p_.moving_point_radius_px > 0)
+        cv::circle(mask_, cur_points[i], p_.moving_point_radius_px, cv::Scalar(255), cv::FILLED);
+      // Carried on only inside a region that passed the vote: an isolated
+      // outlier carried for 3 frames would triple the outlier rate the vote
+      // has to beat. Moving now: carry_frames; carried before: one less.
+      const cv::Point q(cvRound(cur_points[i].x), cvRound(cur_points[i].y));
+      const bool in_region = !motion_mask.empty() && q.x >= 0 && q.y >= 0 &&
+                             q.x < motion_mask.cols && q.y < motion_mask.rows &&
+                             motion_mask.at<uint8_t>(q);
+      const int age = r.dynamic[i] ? p_.carry_frames : int(prev_age_[i]) - 1;
+      if (in_region && age > 0) {
+        carried.push_back(cur_points[i]);
+        carried_age.push_back(uint8_t(std::min(age, 255)));
+      }
+    }
+  }
+  // Box depth masks, at the depth of the moving points inside each box where
+  // there are enough of them (the histogram's nearest peak may be an occluder).
+  t0 = cv::getTickCount();
+  if (!boxes_now_.empty()) {
+    std::vector<float> hints(boxes_now_.size(), 0.f);
+    for (std::size_t b = 0; b < boxes_now_.size(); ++b) {
+      std::vector<float> z;
+      for (const auto& q : carried) {
+        if (!boxes_now_[b].box.contains(q)) continue;
+        const int u = cvRound(q.x), v = cvRound(q.y);
+        if (u < 0 || v < 0 || u >= frame.depth.cols || v >= frame.depth.rows) continue;
+        if (const uint16_t d = frame.depth.at<uint16_t>(v, u)) z.push_back(float(d / camera_.depth_scale));
+      }
+      if (p_.min_hint_points > 0 && int(z.size()) >= p_.min_hint_points) {
+        std::nth_element(z.begin(), z.begin() + z.size() / 2, z.end());
+        hints[b] = z[z.size() / 2];
+      }
+    }
+    const cv::Mat bm =
+        box_masker_.computeFromBoxes(frame.depth, camera_.depth_scale, boxes_now_, nullptr, &hints);
+    mask_ |= bm;
+    if (!debug_dir_.empty()) debug_box_ = bm;
+  }
+  times_["boxes"].push_back(ms_boxes + msSince(t0));
+  times_["geometry"].push_back(r.ms_geometry);
+  times_["regions"].push_back(r.ms_mask);
+
+  if (!debug_dir_.empty()) {
+    // Diagnostics: B = box mask, G = grown regions, R = everything before dilation.
+    cv::Mat planes[3] = {debug_box_.empty() ? cv::Mat::zeros(mask_.size(), CV_8U) : debug_box_,
+                         debug_region_.empty() ? cv::Mat::zeros(mask_.size(), CV_8U) : debug_region_,
+                         mask_};
+    for (const auto& b : boxes_now_) cv::rectangle(planes[0], cv::Rect(b.box), cv::Scalar(128), 2);
+    cv::Mat bgr;
+    cv::merge(planes, 3, bgr);
+    char name[32];
+    std::snprintf(name, sizeof name, "/%06ld.png", frame_);
+    cv::imwrite(debug_dir_ + name, bgr);
+    debug_box_.release();
+    debug_region_.release();
   }
   if (p_.mask_margin_px > 0 && cv::countNonZero(mask_) > 0) {
     const int k = 2 * p_.mask_margin_px + 1;
@@ -82,10 +275,12 @@ void DynamicFeatureFilter::process(const RGBDFrame& frame, const cv::Mat& gray,
     if (u >= 0 && v >= 0 && u < mask_.cols && v < mask_.rows && mask_.at<uint8_t>(v, u))
       dynamic[i] = 1;
   }
-  prev_ = std::move(cur);
-  prev_points_.clear();
-  for (const auto& k : keypoints) prev_points_.push_back(k.pt);
-  have_prev_ = true;
+  if (need_lk) {
+    selectFlowPoints(keypoints, carried, carried_age);
+    prev_ = std::move(cur);
+    have_prev_ = true;
+  }
+  times_["total"].push_back(msSince(t_all));
 }
 
 }  // namespace dynslam

@@ -3,22 +3,33 @@
 // Two independent cues, either or both (the ablation modes):
 //  - detect: YOLO boxes of movable classes, restricted to the object's depth
 //    so the background seen through a box stays usable. The detector runs in
-//    its own thread on the newest frame (a 70 ms forward pass cannot sit on a
-//    30 fps tracking path); each frame uses the latest finished boxes.
+//    its own thread on the newest frame (a 40-70 ms forward pass cannot sit
+//    on a 30 fps tracking path); its boxes are carried to each later frame
+//    by the LK flow (BoxCarrier), so they follow the person between runs.
 //  - flow: the previous frame's keypoints tracked by LK into this frame and
 //    tested against the camera motion fitted on the static majority
-//    (epipolar distance, and reprojection of the depth-backed point, which
-//    also catches motion along the epipolar line); flagged points grow to
-//    their depth-connected region.
+//    (reprojection of the depth-backed point, epipolar distance without
+//    pose); flagged points grow to their depth-connected region, and the
+//    keypoints of such a region are carried as seeds for a few frames.
 // Keypoints falling on the union of both masks (dilated by a margin) are
 // flagged dynamic.
+//
+// Cost: LK runs on at most max_flow_points keypoints of the previous frame
+// (keypoints carried as dynamic first), at half resolution by default; the
+// box carrying reuses those tracks. Per-stage times: stageTimes(), printed at
+// exit when DYNSLAM_DEBUG_DYNAMIC is set. DYNSLAM_DEBUG_DYNAMIC_DIR=DIR writes
+// each frame's mask parts to DIR/<frame>.png (blue: boxes, green: grown
+// regions, red: all before the margin dilation).
 #include <condition_variable>
+#include <map>
 #include <memory>
 #include <mutex>
+#include <string>
 #include <thread>
 
 #include "core/camera.h"
 #include "core/observation_preprocessor.h"
+#include "dynamic/box_carrier.h"
 #include "dynamic/depth_masks.h"
 #include "dynamic/motion_check.h"
 #include "dynamic/yolo_detector.h"
@@ -29,12 +40,34 @@ struct DynamicFilterParams {
   bool use_detector = true;
   bool use_flow = true;
   /// Run the detector in a background thread on the newest frame (false:
-  /// synchronously on every frame, reproducible but slow).
+  /// synchronously, reproducible but slow).
   bool async_detector = true;
+  /// Give the detector a frame at most every this many frames (1: whenever it
+  /// is idle). Larger values leave CPU to tracking on small machines; the
+  /// carried boxes fill the gaps.
+  int detector_interval = 1;
   /// Keypoints within this distance (px) of a dynamic pixel are flagged.
   int mask_margin_px = 4;
+  /// Radius (px) of the disc marked around each point that failed the motion
+  /// tests (covers points without depth, which region growing cannot).
+  int moving_point_radius_px = 3;
+  /// Previous-frame keypoints tracked by LK per frame (0 = all). Keypoints
+  /// carried as dynamic are always among them.
+  int max_flow_points = 500;
+  /// Carry detector boxes between detector runs by optical flow (also in
+  /// mode detect, where LK then runs for the carrying alone).
+  bool carry_boxes = true;
+  /// Points that failed the motion tests are tracked on by LK for this many
+  /// frames as dynamic seeds (a walker moving in t is still there in t+1,
+  /// even where its residuals dip under the threshold); 0 = off.
+  int carry_frames = 2;
+  /// A detector box whose depth mask uses the median depth of the moving
+  /// (carried) points inside it needs at least this many of them; otherwise
+  /// the box's depth histogram decides (0 = never use the points).
+  int min_hint_points = 5;
   YoloDetectorParams detector;
   BoxDepthParams box_mask;
+  BoxCarrierParams carrier;
   MotionCheckParams motion;
 };
 
@@ -51,27 +84,52 @@ class DynamicFeatureFilter : public ObservationPreprocessor {
 
   /// Dynamic-pixel mask (CV_8U, 255 = dynamic) of the last processed frame.
   const cv::Mat& lastMask() const { return mask_; }
+  /// Detector boxes (carried to the frame) used for the last processed frame.
+  const std::vector<Detection>& lastBoxes() const { return boxes_now_; }
   std::size_t detectorRuns() const;
+  /// Per-stage times (ms), one sample per processed frame: pyramid, lk,
+  /// boxes (carrying + box depth mask), geometry, regions, total.
+  const std::map<std::string, std::vector<double>>& stageTimes() const { return times_; }
 
  private:
-  std::vector<Detection> latestBoxes(const cv::Mat& bgr);
+  void submitToDetector(const cv::Mat& bgr, long frame);
+  void collectDetections(const cv::Mat& bgr, long frame);
   void detectorLoop();
+  void selectFlowPoints(const std::vector<cv::KeyPoint>& keypoints,
+                        const std::vector<cv::Point2f>& carried,
+                        const std::vector<uint8_t>& carried_age);
 
   DynamicFilterParams p_;
   PinholeCamera camera_;
   std::unique_ptr<YoloDetector> detector_;
   BoxDepthMasker box_masker_;
+  BoxCarrier carrier_;
   MotionConsistencyCheck motion_;
   MotionFrame prev_;
   std::vector<cv::Point2f> prev_points_;
+  // Per prev point: frames left to carry it as dynamic (0 = a plain keypoint).
+  std::vector<uint8_t> prev_age_;
   bool have_prev_ = false;
+  cv::Mat prev_motion_mask_;  // grown motion regions of the previous frame
+  int unreliable_run_ = 0;    // consecutive frames whose motion fit was unreliable
+  long frame_ = -1;
+  long last_submitted_ = -1000000;
   cv::Mat mask_;
+  std::vector<Detection> boxes_now_;
+  std::map<std::string, std::vector<double>> times_;
+  // $DYNSLAM_DEBUG_DYNAMIC_DIR: per-frame PNG of the mask's parts (diagnostics).
+  std::string debug_dir_;
+  cv::Mat debug_box_, debug_region_;
 
-  // Asynchronous detector: newest frame in, latest boxes out.
+  // Asynchronous detector: newest frame in, latest boxes (with their frame) out.
   mutable std::mutex m_;
   std::condition_variable cv_;
   cv::Mat pending_;
-  std::vector<Detection> boxes_;
+  long pending_frame_ = -1;
+  bool busy_ = false;
+  std::vector<Detection> result_;
+  long result_frame_ = -1;
+  bool result_new_ = false;
   std::size_t runs_ = 0;
   bool stop_ = false;
   std::thread thread_;

@@ -16,6 +16,10 @@ double ratio(int a, int b) {
 double MaskScore::recall() const { return ratio(walker_flagged, walker_points); }
 double MaskScore::falseRejectionRate() const { return ratio(static_flagged, static_points); }
 double MaskScore::standingRejectionRate() const { return ratio(standing_flagged, standing_points); }
+double MaskScore::falseRejectionRateOutsideUnmaskedBoxes() const {
+  return ratio(static_flagged - static_in_unmasked_box_flagged,
+               static_points - static_in_unmasked_box);
+}
 
 MaskScore& MaskScore::operator+=(const MaskScore& o) {
   walker_points += o.walker_points;
@@ -26,15 +30,33 @@ MaskScore& MaskScore::operator+=(const MaskScore& o) {
   standing_flagged += o.standing_flagged;
   boundary_points += o.boundary_points;
   boundary_flagged += o.boundary_flagged;
+  static_in_unmasked_box += o.static_in_unmasked_box;
+  static_in_unmasked_box_flagged += o.static_in_unmasked_box_flagged;
   return *this;
 }
 
 MaskScore scoreKeypoints(const std::vector<cv::Point2f>& points,
                          const std::vector<uint8_t>& dynamic_flags, const cv::Mat& gt_mask,
-                         int margin_px) {
+                         int margin_px, const std::vector<cv::Rect2f>* person_boxes,
+                         double unmasked_overlap) {
   if (points.size() != dynamic_flags.size())
     throw std::invalid_argument("scoreKeypoints: points and flags differ in size");
-  CV_Assert(gt_mask.type() == CV_8UC1);
+  if (gt_mask.empty() || gt_mask.type() != CV_8UC1)
+    throw std::invalid_argument("scoreKeypoints: the mask must be a non-empty CV_8UC1 image");
+  if (margin_px < 0) throw std::invalid_argument("scoreKeypoints: negative margin");
+  // Detected person boxes with (almost) no composite person inside.
+  std::vector<cv::Rect> unmasked;
+  if (person_boxes) {
+    const cv::Rect img(0, 0, gt_mask.cols, gt_mask.rows);
+    for (const auto& b : *person_boxes) {
+      const cv::Rect r = cv::Rect(cv::Point(int(std::floor(b.x)), int(std::floor(b.y))),
+                                  cv::Point(int(std::ceil(b.x + b.width)),
+                                            int(std::ceil(b.y + b.height)))) &
+                         img;
+      if (r.empty()) continue;
+      if (cv::countNonZero(gt_mask(r)) <= unmasked_overlap * r.area()) unmasked.push_back(r);
+    }
+  }
   // Walker core: eroded walker pixels. Standing core: eroded standing pixels.
   // Static: outside the dilated union of all people.
   const cv::Mat walker = (gt_mask > 0) & (gt_mask < 128);
@@ -63,6 +85,12 @@ MaskScore scoreKeypoints(const std::vector<cv::Point2f>& points,
     } else if (!person_zone.at<uint8_t>(y, x)) {
       ++s.static_points;
       s.static_flagged += f;
+      for (const auto& r : unmasked)
+        if (r.contains(cv::Point(x, y))) {
+          ++s.static_in_unmasked_box;
+          s.static_in_unmasked_box_flagged += f;
+          break;
+        }
     } else {
       ++s.boundary_points;
       s.boundary_flagged += f;

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 
 namespace dynslam {
 namespace {
@@ -47,30 +48,6 @@ GeometryResult classifyMotion(const Correspondences& c, const cv::Matx33d& K,
     for (std::size_t i = 0; i < n; ++i) fit[i] = int(i);
   }
   r.fit_points = int(fit.size());
-
-  // --- Epipolar test.
-  if (fit.size() >= 8) {
-    std::vector<cv::Point2f> a, b;
-    a.reserve(fit.size());
-    b.reserve(fit.size());
-    for (int i : fit) {
-      a.push_back(c.prev[i]);
-      b.push_back(c.cur[i]);
-    }
-    cv::Mat F = cv::findFundamentalMat(a, b, cv::FM_RANSAC, params.epipolar_threshold_px,
-                                       params.ransac_confidence);
-    if (F.rows == 3 && F.cols == 3) {
-      r.has_fundamental = true;
-      r.F = cv::Matx33d(F);
-      for (std::size_t i = 0; i < n; ++i) {
-        const cv::Vec3d l = r.F * cv::Vec3d(c.prev[i].x, c.prev[i].y, 1.0);
-        const double norm = std::sqrt(l[0] * l[0] + l[1] * l[1]);
-        if (norm > 0)
-          r.epipolar_error[i] =
-              float(std::abs(l[0] * c.cur[i].x + l[1] * c.cur[i].y + l[2]) / norm);
-      }
-    }
-  }
 
   // --- Depth-backed reprojection test (catches motion along epipolar lines).
   if (!c.prev_xyz.empty()) {
@@ -118,6 +95,33 @@ GeometryResult classifyMotion(const Correspondences& c, const cv::Matx33d& K,
         r.reprojection_error[i] = float(std::hypot(u - c.cur[i].x, v - c.cur[i].y));
         if (!c.cur_depth.empty() && c.cur_depth[i] > 0)
           r.depth_error[i] = float(std::abs(c.cur_depth[i] - Xc[2]) / Xc[2]);
+      }
+    }
+  }
+
+  // --- Epipolar test.
+  // Only needed for points without depth or pose (see fundamental_with_pose).
+  // Without F, points lacking depth are judged by the region mask alone.
+  const bool need_f = params.fundamental_with_pose || params.always_use_epipolar || !r.has_pose;
+  if (need_f && fit.size() >= 8) {
+    std::vector<cv::Point2f> a, b;
+    a.reserve(fit.size());
+    b.reserve(fit.size());
+    for (int i : fit) {
+      a.push_back(c.prev[i]);
+      b.push_back(c.cur[i]);
+    }
+    cv::Mat F = cv::findFundamentalMat(a, b, cv::FM_RANSAC, params.epipolar_threshold_px,
+                                       params.ransac_confidence);
+    if (F.rows == 3 && F.cols == 3) {
+      r.has_fundamental = true;
+      r.F = cv::Matx33d(F);
+      for (std::size_t i = 0; i < n; ++i) {
+        const cv::Vec3d l = r.F * cv::Vec3d(c.prev[i].x, c.prev[i].y, 1.0);
+        const double norm = std::sqrt(l[0] * l[0] + l[1] * l[1]);
+        if (norm > 0)
+          r.epipolar_error[i] =
+              float(std::abs(l[0] * c.cur[i].x + l[1] * c.cur[i].y + l[2]) / norm);
       }
     }
   }
@@ -179,9 +183,63 @@ MotionFrame MotionConsistencyCheck::makeFrame(const cv::Mat& image, const cv::Ma
   CV_Assert(f.gray.type() == CV_8UC1);
   CV_Assert(depth.empty() || (depth.type() == CV_16UC1 && depth.size() == f.gray.size()));
   f.depth = depth;
-  cv::buildOpticalFlowPyramid(f.gray, f.pyramid, cv::Size(params_.lk_window, params_.lk_window),
+  f.lk_downsample = std::clamp(params_.lk_downsample, 1, 2);
+  cv::Mat base = f.gray;
+  if (f.lk_downsample == 2 && !f.gray.empty()) cv::pyrDown(f.gray, base);
+  cv::buildOpticalFlowPyramid(base, f.pyramid, cv::Size(params_.lk_window, params_.lk_window),
                               params_.lk_max_level, true);
   return f;
+}
+
+std::vector<cv::Point2f> MotionConsistencyCheck::track(const MotionFrame& prev,
+                                                       const MotionFrame& cur,
+                                                       const std::vector<cv::Point2f>& prev_points,
+                                                       std::vector<uint8_t>& tracked) const {
+  const std::size_t n = prev_points.size();
+  std::vector<cv::Point2f> cur_points(n, cv::Point2f(0, 0));
+  tracked.assign(n, 0);
+  if (n == 0 || prev.pyramid.empty() || cur.pyramid.empty()) return cur_points;
+  if (prev.lk_downsample != cur.lk_downsample || prev.gray.size() != cur.gray.size())
+    throw std::invalid_argument("MotionConsistencyCheck::track: frames of different size or scale");
+  // Pyramid coordinates: pixel centres map as (x + 0.5) / s - 0.5.
+  const float s = float(cur.lk_downsample);
+  auto down = [s](const cv::Point2f& p) {
+    return cv::Point2f((p.x + 0.5f) / s - 0.5f, (p.y + 0.5f) / s - 0.5f);
+  };
+  auto up = [s](const cv::Point2f& p) {
+    return cv::Point2f((p.x + 0.5f) * s - 0.5f, (p.y + 0.5f) * s - 0.5f);
+  };
+  std::vector<cv::Point2f> p0(n), p1;
+  for (std::size_t i = 0; i < n; ++i) p0[i] = down(prev_points[i]);
+
+  const cv::Size win(params_.lk_window, params_.lk_window);
+  const cv::TermCriteria crit(cv::TermCriteria::COUNT | cv::TermCriteria::EPS,
+                              params_.lk_iterations, 0.01);
+  std::vector<uint8_t> st_f, st_b;
+  std::vector<float> err;
+  cv::calcOpticalFlowPyrLK(prev.pyramid, cur.pyramid, p0, p1, st_f, err, win,
+                           params_.lk_max_level, crit);
+  std::vector<int> fwd_ok;
+  std::vector<cv::Point2f> fwd_pts, back_pts;
+  for (std::size_t i = 0; i < n; ++i)
+    if (st_f[i]) {
+      fwd_ok.push_back(int(i));
+      fwd_pts.push_back(p1[i]);
+      back_pts.push_back(p0[i]);  // initial guess: no motion back
+    }
+  if (!fwd_ok.empty())
+    cv::calcOpticalFlowPyrLK(cur.pyramid, prev.pyramid, fwd_pts, back_pts, st_b, err, win,
+                             params_.lk_max_level, crit, cv::OPTFLOW_USE_INITIAL_FLOW);
+  const cv::Rect2f frame(0, 0, float(cur.gray.cols), float(cur.gray.rows));
+  // The round trip is judged in full-resolution pixels.
+  const float fb = params_.fb_max_error / s;
+  for (std::size_t k = 0; k < fwd_ok.size(); ++k) {
+    const int i = fwd_ok[k];
+    cur_points[i] = up(p1[i]);
+    const cv::Point2f d = back_pts[k] - p0[i];
+    if (st_b[k] && d.dot(d) < fb * fb && frame.contains(cur_points[i])) tracked[i] = 1;
+  }
+  return cur_points;
 }
 
 namespace {
@@ -249,44 +307,15 @@ MotionResult MotionConsistencyCheck::check(const MotionFrame& prev, const Motion
                                            const std::vector<cv::Point2f>& prev_points,
                                            const PinholeCamera& camera,
                                            const std::vector<Detection>& boxes) {
-  const std::size_t n = prev_points.size();
-  std::vector<cv::Point2f> cur_points(n, cv::Point2f(0, 0));
-  std::vector<uint8_t> tracked(n, 0);
-  if (n == 0) {
+  if (prev_points.empty()) {
     MotionResult res;
     res.mask = cv::Mat(cur.gray.size(), CV_8U, cv::Scalar(0));
     return res;
   }
-
-  // --- LK forward, then backward from the tracked positions.
   const int64 t0 = cv::getTickCount();
-  const cv::Size win(params_.lk_window, params_.lk_window);
-  const cv::TermCriteria crit(cv::TermCriteria::COUNT | cv::TermCriteria::EPS,
-                              params_.lk_iterations, 0.01);
-  std::vector<uint8_t> st_f, st_b;
-  std::vector<float> err;
-  cv::calcOpticalFlowPyrLK(prev.pyramid, cur.pyramid, prev_points, cur_points, st_f, err, win,
-                           params_.lk_max_level, crit);
-  std::vector<int> fwd_ok;
-  std::vector<cv::Point2f> fwd_pts, back_pts;
-  for (std::size_t i = 0; i < n; ++i)
-    if (st_f[i]) {
-      fwd_ok.push_back(int(i));
-      fwd_pts.push_back(cur_points[i]);
-      back_pts.push_back(prev_points[i]);  // initial guess: no motion back
-    }
-  if (!fwd_ok.empty())
-    cv::calcOpticalFlowPyrLK(cur.pyramid, prev.pyramid, fwd_pts, back_pts, st_b, err, win,
-                             params_.lk_max_level, crit, cv::OPTFLOW_USE_INITIAL_FLOW);
-  const cv::Rect2f frame(0, 0, float(cur.gray.cols), float(cur.gray.rows));
-  const float fb2 = params_.fb_max_error * params_.fb_max_error;
-  for (std::size_t k = 0; k < fwd_ok.size(); ++k) {
-    const int i = fwd_ok[k];
-    const cv::Point2f d = back_pts[k] - prev_points[i];
-    if (st_b[k] && d.dot(d) < fb2 && frame.contains(cur_points[i])) tracked[i] = 1;
-  }
+  std::vector<uint8_t> tracked;
+  const std::vector<cv::Point2f> cur_points = track(prev, cur, prev_points, tracked);
   const double ms_track = msSince(t0);
-
   MotionResult res = classify(prev_points, cur_points, tracked, prev.depth, cur.depth, camera,
                               boxes, cur.gray.size());
   res.ms_track = ms_track;
@@ -296,9 +325,13 @@ MotionResult MotionConsistencyCheck::check(const MotionFrame& prev, const Motion
 MotionResult MotionConsistencyCheck::classify(
     const std::vector<cv::Point2f>& prev_points, const std::vector<cv::Point2f>& cur_points,
     const std::vector<uint8_t>& valid, const cv::Mat& prev_depth, const cv::Mat& cur_depth,
-    const PinholeCamera& camera, const std::vector<Detection>& boxes, cv::Size image_size) {
+    const PinholeCamera& camera, const std::vector<Detection>& boxes, cv::Size image_size,
+    const std::vector<uint8_t>* carried_points) {
   const std::size_t n = prev_points.size();
-  CV_Assert(cur_points.size() == n && (valid.empty() || valid.size() == n));
+  if (cur_points.size() != n || (!valid.empty() && valid.size() != n) ||
+      (carried_points && carried_points->size() != n))
+    throw std::invalid_argument(
+        "MotionConsistencyCheck::classify: points, valid and carried differ in size");
   if (image_size.empty())
     image_size = cur_depth.empty() ? cv::Size(camera.width, camera.height) : cur_depth.size();
   MotionResult res;
@@ -321,11 +354,16 @@ MotionResult MotionConsistencyCheck::classify(
                                                  boxes, params_.depth_edge_ratio);
   const cv::Matx33d K(camera.fx, 0, camera.cx, 0, camera.fy, camera.cy, 0, 0, 1);
   res.geometry = classifyMotion(c, K, params_);
+  // Seeds: points moving now and points carried from earlier frames.
+  std::vector<uint8_t> moving(m, 0);
   std::vector<cv::Point2f> seeds;
   std::vector<cv::Rect> limits;
   for (std::size_t k = 0; k < m; ++k) {
-    if (!res.geometry.dynamic[k]) continue;
-    res.dynamic[res.tracked_index[k]] = 1;
+    const uint8_t carried =
+        carried_points ? (*carried_points)[res.tracked_index[k]] : uint8_t(0);
+    if (res.geometry.dynamic[k]) res.dynamic[res.tracked_index[k]] = 1;
+    if (!res.geometry.dynamic[k] && !carried) continue;
+    moving[k] = 1;
     seeds.push_back(raw_cur[k]);
     cv::Rect lim;
     if (params_.grow_within_boxes)
@@ -344,6 +382,9 @@ MotionResult MotionConsistencyCheck::classify(
   // --- Grow the moving points into their objects (on a grid `ds` times
   // coarser than the image: the mask is for culling, 2 px steps are plenty).
   t0 = cv::getTickCount();
+  // In an unreliable frame (blur, rolling shutter) the carried seeds are LK
+  // tracks through the same blur: no regions are grown from them.
+  if (!res.geometry.reliable && params_.unreliable_clears_flags) seeds.clear();
   if (!seeds.empty() && !cur_depth.empty()) {
     const int ds = std::max(1, params_.mask_downsample);
     const cv::Size grid(image_size.width / ds, image_size.height / ds);
@@ -362,6 +403,9 @@ MotionResult MotionConsistencyCheck::classify(
     const int regions = grower_.growRegions(depth_grid, camera.depth_scale, seeds, &limits);
     // Vote per region: a moving object has a good share of its tracked
     // points flagged; a static surface under a few noisy outliers does not.
+    // Carried seeds (points that moved in the last frames) vote as moving:
+    // a walker's slow step keeps its region, while a few stale outliers in a
+    // static surface full of static points still fail the vote.
     std::vector<int> dyn(regions + 1, 0), total(regions + 1, 0);
     std::vector<int> label_of(m, 0);
     std::vector<cv::Point2f> grid_pts(m);
@@ -371,7 +415,7 @@ MotionResult MotionConsistencyCheck::classify(
       label_of[k] = l;
       if (!l) continue;
       ++total[l];
-      dyn[l] += res.geometry.dynamic[k];
+      dyn[l] += moving[k];
     }
     std::vector<uint8_t> keep(regions + 1, 0);
     for (int l = 1; l <= regions; ++l)
@@ -389,19 +433,23 @@ MotionResult MotionConsistencyCheck::classify(
       for (std::size_t k = 0; k < m; ++k) {
         const cv::Point q(cvRound(grid_pts[k].x), cvRound(grid_pts[k].y));
         if (!img.contains(q)) continue;
-        if (res.geometry.dynamic[k]) {
+        if (moving[k]) {
           to_dyn.at<uint8_t>(q) = 0;
         } else if (keep[label_of[k]]) {  // static points outside regions cut nothing
           to_static.at<uint8_t>(q) = 0;
           any_static = true;
         }
       }
+      cv::Mat d_dyn, d_static;
+      cv::distanceTransform(to_dyn, d_dyn, cv::DIST_L2, 3);
       if (any_static) {
-        cv::Mat d_dyn, d_static;
-        cv::distanceTransform(to_dyn, d_dyn, cv::DIST_L2, 3);
         cv::distanceTransform(to_static, d_static, cv::DIST_L2, 3);
         mask.setTo(0, d_dyn > d_static);
       }
+      // Depth regions also run on along floors, desks and walls touching the
+      // person; pixels far from every moving point are not trusted.
+      if (params_.max_seed_distance_px > 0)
+        mask.setTo(0, d_dyn > float(params_.max_seed_distance_px) / ds);
     }
     if (ds > 1)
       cv::resize(mask, res.mask, image_size, 0, 0, cv::INTER_NEAREST);

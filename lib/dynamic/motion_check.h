@@ -25,6 +25,26 @@
 // each region is cut back to the pixels nearer to moving than to static
 // points, giving a per-pixel mask for the mapper.
 //
+// Why LK on a half-resolution image (lk_downsample = 2): the check only needs
+// to tell pixel-scale motion from a 3 px threshold; at half size the pyramid
+// and the LK windows cost about a quarter, and the 0.1-0.2 px precision lost
+// is far below the thresholds.
+//
+// Why the F-matrix RANSAC can be skipped when the PnP pose exists
+// (fundamental_with_pose = false): with a pose, the reprojection test judges
+// every depth-backed point and F only serves the points without depth. It is
+// kept on by default: those are the points on depth edges, i.e. object
+// outlines (the synthetic box test loses 5 % of its mask without them).
+//
+// Why carried seeds (classify(..., carried)): a walker found moving in frame
+// t is still there in t+1 even if its residuals there stay under the
+// threshold (slow step, blurred frame). The caller keeps tracking the points
+// that moved for a few frames and passes them as carried: they seed the
+// region growing like fresh moving points, and a region holding min_seeds of
+// them counts as moving in the region vote. Only the moving points
+// themselves are carried, never a whole region's keypoints: that would let a
+// region sustain itself forever and creep over the static scene.
+//
 // Per frame (the lead's pipeline):
 //   MotionFrame cur = check.makeFrame(gray, depth);          // pyramid built once
 //   MotionResult r = check.check(prev, cur, prev_keypoints, camera, boxes);
@@ -47,15 +67,21 @@ namespace dynslam {
 
 struct MotionCheckParams {
   // --- Lucas-Kanade tracking
-  int lk_window = 21;    ///< square window (px)
+  int lk_window = 11;    ///< square window (px of the LK image, see lk_downsample)
   int lk_max_level = 2;  ///< pyramid levels above the image (2 = 3 levels)
   int lk_iterations = 30;
-  float fb_max_error = 1.0f;  ///< forward-backward round trip must return within (px)
+  float fb_max_error = 1.0f;  ///< forward-backward round trip must return within (px, full resolution)
+  /// LK runs on the image shrunk by this factor (1 or 2); lk_window is in
+  /// pixels of that image.
+  int lk_downsample = 2;
   // --- geometry
   float epipolar_threshold_px = 1.0f;  ///< sigma of the epipolar test
   /// false: the epipolar test judges only points the reprojection test cannot
   /// (no depth or no pose); true: a point is dynamic when either test fails.
   bool always_use_epipolar = false;
+  /// Fit F also when the PnP pose succeeded (only needed for points without
+  /// depth, or with always_use_epipolar); false saves the F RANSAC.
+  bool fundamental_with_pose = true;
   float reprojection_threshold_px = 3.0f;  ///< depth-backed reprojection test
   /// Per frame, each threshold is raised to k x the robust residual sigma of
   /// the fit points (blurred / rolling-shutter frames); 0 = fixed thresholds.
@@ -84,7 +110,7 @@ struct MotionCheckParams {
   bool grow_within_boxes = true;
   /// A grown region is dynamic when at least this share of the tracked
   /// points inside it (and grow.min_seeds of them) failed the tests.
-  float region_min_dynamic_ratio = 0.15f;
+  float region_min_dynamic_ratio = 0.3f;
   /// true: tracked points inside a dynamic region are flagged too (fills in
   /// the points of a person the tests missed). Flags are never cleared by the
   /// vote: people touching furniture share a depth region with it, and the
@@ -93,6 +119,10 @@ struct MotionCheckParams {
   /// Cut each grown region down to the pixels closer to a moving tracked
   /// point than to a static one (regions leak into furniture a person touches).
   bool carve_static = true;
+  /// With carve_static: region pixels farther than this (px) from every
+  /// moving or carried point are cut (regions leak along floors, desks and
+  /// walls the person touches); 0 = no limit.
+  float max_seed_distance_px = 40.f;
   /// Region growing and carving run on a grid this many times coarser than
   /// the image (2: 4x cheaper; the mask is upsampled to full size).
   int mask_downsample = 2;
@@ -103,7 +133,8 @@ struct MotionCheckParams {
 struct MotionFrame {
   cv::Mat gray;                  ///< CV_8UC1
   cv::Mat depth;                 ///< CV_16UC1 raw units (camera.depth_scale per metre)
-  std::vector<cv::Mat> pyramid;  ///< cv::buildOpticalFlowPyramid with derivatives
+  std::vector<cv::Mat> pyramid;  ///< of gray shrunk by lk_downsample, with derivatives
+  int lk_downsample = 1;         ///< scale of the pyramid's base level (1 or 2)
 };
 
 /// Correspondences for the pure-geometry core (unit-testable without images).
@@ -171,6 +202,14 @@ class MotionConsistencyCheck {
   /// are shared, not copied.
   MotionFrame makeFrame(const cv::Mat& image, const cv::Mat& depth) const;
 
+  /// LK forward and backward from prev to cur only (no geometry). Returns the
+  /// tracked positions (full-resolution pixels) and sets tracked[i] = 1 where
+  /// both passes succeeded, the round trip closed within fb_max_error and the
+  /// point stays in the image.
+  std::vector<cv::Point2f> track(const MotionFrame& prev, const MotionFrame& cur,
+                                 const std::vector<cv::Point2f>& prev_points,
+                                 std::vector<uint8_t>& tracked) const;
+
   /// Tracks prev_points from prev to cur (LK + forward-backward check) and
   /// classifies them. Points: raw (distorted) pixels. boxes: dynamic-class
   /// detections in either frame (may be empty).
@@ -181,12 +220,15 @@ class MotionConsistencyCheck {
   /// The same without LK, for correspondences the caller already has (e.g.
   /// the tracker's descriptor matches): saves the tracking cost, which is
   /// most of check(). valid (optional): 0 = skip that pair. image_size: of
-  /// the mask (default: cur_depth's size).
+  /// the mask (default: cur_depth's size). carried (optional, one per pair):
+  /// non-zero = the point moved in an earlier frame; it seeds region growing
+  /// and votes as moving.
   MotionResult classify(const std::vector<cv::Point2f>& prev_points,
                         const std::vector<cv::Point2f>& cur_points,
                         const std::vector<uint8_t>& valid, const cv::Mat& prev_depth,
                         const cv::Mat& cur_depth, const PinholeCamera& camera,
-                        const std::vector<Detection>& boxes, cv::Size image_size = {});
+                        const std::vector<Detection>& boxes, cv::Size image_size = {},
+                        const std::vector<uint8_t>* carried = nullptr);
 
   const MotionCheckParams& params() const { return params_; }
 

@@ -1,6 +1,7 @@
 #include "mapexport/dense_map_builder.h"
 
 #include <algorithm>
+#include <stdexcept>
 
 #include "mapexport/cloud_filters.h"
 
@@ -11,9 +12,23 @@ DenseMapBuilder::DenseMapBuilder(const PinholeCamera& camera, DenseMapOptions op
 
 void DenseMapBuilder::addKeyframe(const RGBDFrame& frame,
                                   const mrpt::poses::CPose3D& pose_wc,
-                                  const cv::Mat& dynamic_mask) {
+                                  const cv::Mat& dynamic_mask,
+                                  const cv::Mat& truth_mask) {
   scratch_.clear();
-  projector_.backProject(frame, pose_wc, dynamic_mask, scratch_);
+  scratch_pixels_.clear();
+  if (truth_mask.empty()) {
+    projector_.backProject(frame, pose_wc, dynamic_mask, scratch_);
+  } else {
+    const PinholeCamera& cam = projector_.camera();
+    if (truth_mask.type() != CV_8UC1 || truth_mask.cols != cam.width ||
+        truth_mask.rows != cam.height) {
+      throw std::invalid_argument("truth mask must be CV_8UC1 of the image size");
+    }
+    projector_.backProject(frame, pose_wc, dynamic_mask, scratch_, &scratch_pixels_);
+    if (!provenance_) provenance_ = std::make_unique<DenseMaskProvenance>(options_.voxel_leaf);
+    provenance_->add(scratch_, scratch_pixels_,
+                     truth_mask.isContinuous() ? truth_mask : truth_mask.clone());
+  }
   stats_.keyframes++;
   stats_.backprojected_points += scratch_.size();
   if (options_.voxel_leaf > 0) {
@@ -29,6 +44,11 @@ void DenseMapBuilder::addKeyframe(const RGBDFrame& frame,
   } else {
     accumulated_.insert(accumulated_.end(), scratch_.begin(), scratch_.end());
   }
+}
+
+std::optional<MaskShare> DenseMapBuilder::truthShare(const ColoredCloud& final_cloud) const {
+  if (!provenance_) return std::nullopt;
+  return provenance_->score(final_cloud);
 }
 
 ColoredCloud DenseMapBuilder::build() {

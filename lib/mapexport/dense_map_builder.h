@@ -8,8 +8,11 @@
 // past `compact_threshold` points; build() does the final voxel pass and the
 // statistical outlier removal.
 #include <cstddef>
+#include <memory>
+#include <optional>
 
 #include "mapexport/depth_backprojector.h"
+#include "mapexport/truth_mask_score.h"
 
 namespace dynslam {
 
@@ -35,12 +38,23 @@ class DenseMapBuilder {
   DenseMapBuilder(const PinholeCamera& camera, DenseMapOptions options = {});
 
   /// pose_wc: camera-to-world. dynamic_mask: empty or CV_8UC1, 255 = dynamic.
+  /// truth_mask: empty, or the keyframe's ground-truth mask (CV_8UC1 of the
+  /// image size, see truth_mask_score.h); when given, the provenance of the
+  /// fused pixels is recorded for truthShare(). Give it for every keyframe or
+  /// for none: a share over partly labelled keyframes would undercount.
   void addKeyframe(const RGBDFrame& frame, const mrpt::poses::CPose3D& pose_wc,
-                   const cv::Mat& dynamic_mask = cv::Mat());
+                   const cv::Mat& dynamic_mask = cv::Mat(),
+                   const cv::Mat& truth_mask = cv::Mat());
 
   /// Final voxel grid and outlier removal. The builder can keep accepting
   /// keyframes afterwards (build() does not consume the accumulation).
   ColoredCloud build();
+
+  /// Share of `final_cloud` (the result of build()) that came from walker /
+  /// standing-person pixels of the truth masks; nullopt if no keyframe had one.
+  std::optional<MaskShare> truthShare(const ColoredCloud& final_cloud) const;
+  /// The recorded provenance (pixel counts); null if no truth mask was given.
+  const DenseMaskProvenance* provenance() const { return provenance_.get(); }
 
   const DenseMapStats& stats() const { return stats_; }
   const DenseMapOptions& options() const { return options_; }
@@ -50,6 +64,8 @@ class DenseMapBuilder {
   DepthBackProjector projector_;
   ColoredCloud accumulated_;
   ColoredCloud scratch_;
+  std::vector<std::uint32_t> scratch_pixels_;
+  std::unique_ptr<DenseMaskProvenance> provenance_;
   std::size_t compacted_size_ = 0;
   DenseMapStats stats_;
 };

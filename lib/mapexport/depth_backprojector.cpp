@@ -45,7 +45,8 @@ DepthBackProjector::DepthBackProjector(const PinholeCamera& camera,
 void DepthBackProjector::backProject(const RGBDFrame& frame,
                                      const mrpt::poses::CPose3D& pose_wc,
                                      const cv::Mat& dynamic_mask,
-                                     ColoredCloud& out) const {
+                                     ColoredCloud& out,
+                                     std::vector<std::uint32_t>* pixel_indices) const {
   const cv::Size size(camera_.width, camera_.height);
   if (frame.depth.type() != CV_16UC1 || frame.depth.size() != size) {
     throw InputError(frame.depth_source.empty() ? "depth image" : frame.depth_source,
@@ -100,6 +101,7 @@ void DepthBackProjector::backProject(const RGBDFrame& frame,
       p.g = c_row[u][1];
       p.r = c_row[u][2];
       out.push_back(p);
+      if (pixel_indices) pixel_indices->push_back(std::uint32_t(v) * camera_.width + u);
     }
   }
 }

@@ -8,6 +8,9 @@
 
 #include <opencv2/core.hpp>
 
+#include <cstdint>
+#include <vector>
+
 #include "core/camera.h"
 #include "core/rgbd_frame.h"
 #include "mapexport/colored_cloud.h"
@@ -32,8 +35,12 @@ class DepthBackProjector {
   /// (camera-to-world) to `out`. dynamic_mask: empty, or CV_8UC1 of the
   /// image size with non-zero = dynamic (excluded). Throws InputError naming
   /// frame.depth_source / rgb_source if image sizes disagree with the camera.
+  /// pixel_indices: if given, receives v * width + u of every appended point
+  /// (same order), so callers can look the source pixel up in other images
+  /// of the keyframe (e.g. ground-truth masks when scoring the map).
   void backProject(const RGBDFrame& frame, const mrpt::poses::CPose3D& pose_wc,
-                   const cv::Mat& dynamic_mask, ColoredCloud& out) const;
+                   const cv::Mat& dynamic_mask, ColoredCloud& out,
+                   std::vector<std::uint32_t>* pixel_indices = nullptr) const;
 
   const PinholeCamera& camera() const { return camera_; }
   const BackProjectionOptions& options() const { return options_; }

@@ -11,6 +11,7 @@
 
 #include "core/atomic_file.h"
 #include "core/errors.h"
+#include "mapexport/up_estimation.h"
 
 namespace dynslam {
 namespace {
@@ -63,11 +64,11 @@ aiMatrix4x4 toAiMatrix(const mrpt::poses::CPose3D& pose) {
                      0, 0, 0, 1);
 }
 
-/// Rotation taking the keyframes' up direction to +Y, glTF's up axis, so
+/// Rotation taking the map's up direction (estimateMapUp) to +Y, glTF's up axis, so
 /// generic viewers show the map upright. Applied on the root node only; the
 /// data below it stays in world coordinates (readGlb ignores the root).
-aiMatrix4x4 uprightRoot(const Trajectory& keyframes) {
-  const auto up = estimateUpDirection(keyframes);
+aiMatrix4x4 uprightRoot(const MapData& map) {
+  const auto up = estimateMapUp(map).up;
   const aiVector3D from{float(up[0]), float(up[1]), float(up[2])};
   const aiVector3D to{0.f, 1.f, 0.f};
   aiMatrix4x4 m;
@@ -145,7 +146,7 @@ void writeGlb(const std::string& path, const MapData& map, const MapWriteOptions
   std::copy(meshes.begin(), meshes.end(), scene->mMeshes);
 
   auto* root = new aiNode(kRootName);
-  root->mTransformation = uprightRoot(map.keyframes);
+  root->mTransformation = uprightRoot(map);
   scene->mRootNode = root;
   std::vector<aiNode*> children;
   for (unsigned m = 0; m < scene->mNumMeshes; ++m) {

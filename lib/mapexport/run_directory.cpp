@@ -4,13 +4,18 @@
 
 #include <opencv2/imgcodecs.hpp>
 
+#include <sys/resource.h>
+
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <map>
 #include <stdexcept>
 
 #include "core/atomic_file.h"
 #include "core/errors.h"
+#include "core/json_writer.h"
 #include "mapexport/ply_io.h"
 
 namespace dynslam {
@@ -59,13 +64,131 @@ RunDirectory readRunDirectory(const std::string& dir) {
   return run;
 }
 
+std::string exportReportPath(const std::string& out_path) {
+  fs::path p(out_path);
+  return (p.parent_path() / (p.stem().string() + ".export.json")).string();
+}
+
+namespace {
+
+double peakRssMb() {
+  rusage ru{};
+  getrusage(RUSAGE_SELF, &ru);
+  return ru.ru_maxrss / 1024.0;  // KiB on Linux
+}
+
+void writeShare(JsonWriter& j, const std::string& key, const MaskShare& s) {
+  j.beginObject(key)
+      .value("points", s.points)
+      .value("walker_points", s.walker_points)
+      .value("standing_points", s.standing_points)
+      .value("walker_mask_share", s.walkerShare())
+      .value("standing_mask_share", s.standingShare());
+}
+
+void writeReport(const std::string& path, const RunDirectory& run, const FrameSource& source,
+                 const std::string& out_path, const DenseMapOptions& o, const ExportResult& r,
+                 const std::map<std::string, double>& phases,
+                 const DenseMaskProvenance* provenance) {
+  JsonWriter j;
+  j.beginObject()
+      .value("run_dir", run.dir)
+      .value("input", run.input)
+      .value("source", source.description())
+      .value("output", out_path)
+      .value("keyframes", r.stats.keyframes)
+      .value("backprojected_points", r.stats.backprojected_points)
+      .value("after_voxel", r.stats.after_voxel)
+      .value("after_outliers", r.stats.after_outliers)
+      .value("points_written", r.points_written)
+      .value("sparse_output", r.sparse_path)
+      .value("sparse_points", r.sparse_points)
+      .value("seconds", r.seconds);
+  j.beginObject("phase_seconds");
+  for (const auto& [name, sec] : phases) j.value(name, sec);
+  j.endObject();
+  j.value("peak_rss_mb", r.peak_rss_mb);
+  j.beginObject("options")
+      .value("min_depth", o.projection.min_depth)
+      .value("max_depth", o.projection.max_depth)
+      .value("pixel_stride", o.projection.pixel_stride)
+      .value("mask_margin_px", o.projection.mask_margin_px)
+      .value("voxel_leaf", o.voxel_leaf)
+      .value("remove_outliers", o.remove_outliers)
+      .value("outlier_neighbours", o.outlier_neighbours)
+      .value("outlier_stddev", o.outlier_stddev)
+      .endObject();
+  j.beginObject("up")
+      .value("source", r.up.source)
+      .value("plane_share", r.up.plane_share)
+      .value("angle_to_keyframe_estimate_deg", r.up.prior_angle_deg);
+  j.beginArray("direction");
+  for (double v : r.up.up) j.element(v);
+  j.endArray().endObject();
+  // Ground truth: absent when the input has no masks/ (JSON null would
+  // look like a measured 0).
+  if (r.dense_truth) {
+    j.value("walker_mask_share", r.dense_truth->walkerShare())
+        .value("standing_mask_share", r.dense_truth->standingShare());
+    j.beginObject("truth_masks").value("dir", r.truth_masks_dir);
+    if (provenance) {
+      j.value("fused_pixels", provenance->pixels())
+          .value("fused_walker_pixels", provenance->walkerPixels())
+          .value("fused_standing_pixels", provenance->standingPixels());
+    }
+    writeShare(j, "dense", *r.dense_truth);
+    j.endObject();
+    if (r.sparse_truth) {
+      writeShare(j, "sparse", *r.sparse_truth);
+      j.value("unobserved_points", r.sparse_truth->unobserved_points).endObject();
+    }
+    j.endObject();
+  }
+  j.endObject();
+  const std::string text = j.str();
+  writeFileAtomically(path, [&](std::ostream& out) { out << text << "\n"; });
+}
+
+}  // namespace
+
 ExportResult exportRun(const RunDirectory& run, const FrameSource& source,
                        const std::string& out_path, const DenseMapOptions& options,
                        const std::vector<double>* frame_timestamps) {
+  ExportOptions eo;
+  eo.frame_timestamps = frame_timestamps;
+  return exportRun(run, source, out_path, options, eo);
+}
+
+ExportResult exportRun(const RunDirectory& run, const FrameSource& source,
+                       const std::string& out_path, const DenseMapOptions& options,
+                       const ExportOptions& export_options) {
+  using Clock = std::chrono::steady_clock;
+  const auto t_start = Clock::now();
+  auto since = [](Clock::time_point t) {
+    return std::chrono::duration<double>(Clock::now() - t).count();
+  };
+  std::map<std::string, double> phases;
   mapFormatFromPath(out_path);  // reject a bad extension before the slow part
+  const std::vector<double>* frame_timestamps = export_options.frame_timestamps;
   if (frame_timestamps && frame_timestamps->size() != source.size()) {
     throw std::invalid_argument("exportRun: frame_timestamps size differs from the source");
   }
+  std::string truth_dir;
+  if (export_options.truth_masks_dir) {
+    truth_dir = *export_options.truth_masks_dir;
+    if (!truth_dir.empty() && !isDirectory(truth_dir)) {
+      throw InputError(truth_dir, "ground-truth masks folder not found");
+    }
+  } else if (isDirectory(run.input) && isDirectory(run.input + "/masks")) {
+    truth_dir = run.input + "/masks";
+  }
+  // Read the sparse map first: a malformed map_points.txt fails the export
+  // before anything is written.
+  std::optional<ColoredCloud> sparse;
+  if (fileExists(run.mapPointsPath())) sparse = readMapPointsText(run.mapPointsPath());
+  std::optional<SparseMaskScorer> sparse_scorer;
+  if (sparse && !truth_dir.empty()) sparse_scorer.emplace(*sparse, source.camera());
+
   auto timestampOf = [&](std::size_t i, RGBDFrame& loaded, bool& is_loaded) {
     if (frame_timestamps) return (*frame_timestamps)[i];
     loaded = source.load(i);
@@ -100,7 +223,12 @@ ExportResult exportRun(const RunDirectory& run, const FrameSource& source,
             throw InputError(mask_path, "dynamic mask size differs from the images");
           }
         }
-        builder.addKeyframe(frame, kf.pose, mask);
+        cv::Mat truth;
+        if (!truth_dir.empty()) {
+          truth = loadTruthMask(truthMaskPath(truth_dir, frame.rgb_source), frame.depth.size());
+          if (sparse_scorer) sparse_scorer->addKeyframe(frame.depth, kf.pose, truth);
+        }
+        builder.addKeyframe(frame, kf.pose, mask, truth);
         found = true;
         ++next;
       }
@@ -113,25 +241,50 @@ ExportResult exportRun(const RunDirectory& run, const FrameSource& source,
                                                 " has no frame in " + source.description());
     }
   }
+  phases["load_and_fuse"] = since(t_start);
 
   const fs::path out_dir = fs::path(out_path).parent_path();
   if (!out_dir.empty()) makeDirectories(out_dir.string());
 
+  auto t_phase = Clock::now();
   MapData map;
   map.points = builder.build();
   map.keyframes = run.keyframes;
+  phases["voxel_and_outliers"] = since(t_phase);
+
+  ExportResult result;
+  t_phase = Clock::now();
+  result.up = estimateMapUp(map);
+  phases["up_estimate"] = since(t_phase);
+  t_phase = Clock::now();
   MapWriteOptions write_options;
   write_options.camera = source.camera();
   writeMapFile(out_path, map, write_options);
+  phases["write"] = since(t_phase);
 
-  ExportResult result;
   result.stats = builder.stats();
   result.points_written = map.points.size();
-  if (fileExists(run.mapPointsPath())) {
-    const ColoredCloud sparse = readMapPointsText(run.mapPointsPath());
+  if (sparse) {
     fs::path p(out_path);
     result.sparse_path = (p.parent_path() / (p.stem().string() + "_sparse.ply")).string();
-    writeSparsePointsPly(result.sparse_path, sparse);
+    result.sparse_points = sparse->size();
+    writeSparsePointsPly(result.sparse_path, *sparse);
+  }
+  if (!truth_dir.empty()) {
+    t_phase = Clock::now();
+    result.truth_masks_dir = truth_dir;
+    result.dense_truth = builder.truthShare(map.points);
+    if (!result.dense_truth) result.dense_truth = MaskShare{map.points.size(), 0, 0};
+    if (sparse_scorer) result.sparse_truth = sparse_scorer->score();
+    phases["truth_score"] = since(t_phase);
+  }
+  result.seconds = since(t_start);
+  result.peak_rss_mb = peakRssMb();
+  if (export_options.write_report) {
+    result.report_path = export_options.report_path.empty() ? exportReportPath(out_path)
+                                                            : export_options.report_path;
+    writeReport(result.report_path, run, source, out_path, options, result, phases,
+                builder.provenance());
   }
   return result;
 }

@@ -5,8 +5,11 @@
 //   run_info.yaml          `input:` sequence path, `camera_config:` (may be empty)
 //   dynamic_masks/<t>.png  optional, CV_8U, 255 = dynamic, t with 6 decimals
 //   map_points.txt         optional sparse map ("x y z r g b")
+// and, from the input sequence, masks/<rgb stem>.png when it has them
+// (composite sequences with ground-truth people masks) to score the map.
 // Reading is separate from fusing so that export can be tested with a
 // synthetic FrameSource and without the data layer.
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -14,6 +17,8 @@
 #include "core/trajectory.h"
 #include "mapexport/dense_map_builder.h"
 #include "mapexport/map_data.h"
+#include "mapexport/truth_mask_score.h"
+#include "mapexport/up_estimation.h"
 
 namespace dynslam {
 
@@ -35,22 +40,54 @@ struct RunDirectory {
 /// the run folder if it exists there, else kept as written.
 RunDirectory readRunDirectory(const std::string& dir);
 
+struct ExportOptions {
+  /// RGB timestamps of source's frames (index i = frame i, e.g.
+  /// tumPairTimestamps() of a TUM folder): with them only the keyframes'
+  /// frames are decoded; without them every frame up to the last keyframe is
+  /// loaded to read its timestamp. Not owned; may be null.
+  const std::vector<double>* frame_timestamps = nullptr;
+  /// Ground-truth masks (masks/<rgb file stem>.png, see truth_mask_score.h)
+  /// to score the map against. nullopt: RUN's input folder's masks/ if it
+  /// has one; "": do not score.
+  std::optional<std::string> truth_masks_dir;
+  /// Export report (JSON); empty: exportReportPath(out_path).
+  std::string report_path;
+  bool write_report = true;
+};
+
 struct ExportResult {
   DenseMapStats stats;
   std::size_t points_written = 0;
   std::string sparse_path;  ///< written sparse PLY, empty if none
+  std::size_t sparse_points = 0;
+  std::string report_path;  ///< written report, empty if none
+  double seconds = 0;       ///< wall time of exportRun up to the report
+  double peak_rss_mb = 0;   ///< process peak resident memory at the end
+  UpEstimate up;            ///< as used for the GLB root and the render views
+  /// Set when truth masks were used (truth_masks_dir non-empty).
+  std::string truth_masks_dir;
+  std::optional<MaskShare> dense_truth;
+  std::optional<SparseMaskShare> sparse_truth;  ///< also needs map_points.txt
 };
+
+/// MAP.ply -> MAP.export.json (same folder, extension replaced).
+std::string exportReportPath(const std::string& out_path);
 
 /// Fuses every keyframe of `run` found in `source` (|dt| < 1e-4 s) with its
 /// mask, writes `out_path` (.ply / .glb; parent folders are created) and,
-/// when map_points.txt exists, the
-/// sparse map next to it as <stem>_sparse.ply. Throws InputError naming
-/// keyframes.txt if a keyframe has no frame in the input, and naming a mask
-/// file that cannot be read or has the wrong size.
-/// frame_timestamps: optional RGB timestamps of source's frames (index i =
-/// frame i, e.g. tumPairTimestamps() of a TUM folder); with them only the
-/// keyframes' frames are decoded, without them every frame up to the last
-/// keyframe is loaded to read its timestamp.
+/// when map_points.txt exists, the sparse map next to it as
+/// <stem>_sparse.ply, then the export report (atomically): point counts,
+/// options, time, peak memory, up direction and, with truth masks, the
+/// share of map points that came from walking / standing people's pixels
+/// (`walker_mask_share`, dense and sparse). Throws InputError naming
+/// keyframes.txt if a keyframe has no frame in the input, naming a dynamic
+/// or truth mask file that is missing (truth), unreadable or of the wrong
+/// size; nothing is written then.
+ExportResult exportRun(const RunDirectory& run, const FrameSource& source,
+                       const std::string& out_path, const DenseMapOptions& options,
+                       const ExportOptions& export_options);
+
+/// Same, with ExportOptions{frame_timestamps} (truth masks auto-detected).
 ExportResult exportRun(const RunDirectory& run, const FrameSource& source,
                        const std::string& out_path, const DenseMapOptions& options,
                        const std::vector<double>* frame_timestamps = nullptr);

@@ -89,7 +89,20 @@ SlamConfig loadSlamConfig(const std::string& path) {
 
   DynamicFilterParams& d = c.dynamic;
   ConfigSection dy = root.sub("dynamic");
-  dy.read("async_detector", d.async_detector).read("mask_margin_px", d.mask_margin_px);
+  dy.read("async_detector", d.async_detector)
+      .read("detector_interval", d.detector_interval)
+      .read("mask_margin_px", d.mask_margin_px)
+      .read("moving_point_radius_px", d.moving_point_radius_px)
+      .read("max_flow_points", d.max_flow_points)
+      .read("carry_boxes", d.carry_boxes)
+      .read("carry_frames", d.carry_frames)
+      .read("min_hint_points", d.min_hint_points);
+  if (d.detector_interval < 1 || d.mask_margin_px < 0 || d.moving_point_radius_px < 0 ||
+      d.max_flow_points < 0 || d.carry_frames < 0 || d.carry_frames > 255 ||
+      d.min_hint_points < 0)
+    throw InputError(path, "dynamic: detector_interval >= 1, mask_margin_px, "
+                           "moving_point_radius_px, max_flow_points, min_hint_points >= 0, "
+                           "0 <= carry_frames <= 255 required");
   ConfigSection det = dy.sub("detector");
   std::string model;
   det.read("model", model)
@@ -104,12 +117,44 @@ SlamConfig loadSlamConfig(const std::string& path) {
   }
   det.readList("dynamic_classes", d.detector.dynamic_classes);
   det.rejectUnknownKeys();
+  ConfigSection bm = dy.sub("box_mask");
+  bm.read("center_fraction", d.box_mask.center_fraction)
+      .read("near_peak_ratio", d.box_mask.near_peak_ratio)
+      .read("depth_band_m", d.box_mask.depth_band_m)
+      .read("box_padding", d.box_mask.box_padding);
+  bm.rejectUnknownKeys();
+  ConfigSection ca = dy.sub("box_carrier");
+  ca.read("max_age_frames", d.carrier.max_age_frames)
+      .read("inner_fraction", d.carrier.inner_fraction)
+      .read("min_points", d.carrier.min_points)
+      .read("replace_iou", d.carrier.replace_iou);
+  ca.rejectUnknownKeys();
+  if (d.carrier.max_age_frames < 0 || !(d.carrier.inner_fraction > 0) ||
+      d.carrier.inner_fraction > 1)
+    throw InputError(path, "dynamic.box_carrier: max_age_frames >= 0, 0 < inner_fraction <= 1 required");
+  MotionCheckParams& mc = d.motion;
   ConfigSection mo = dy.sub("motion_check");
-  mo.read("epipolar_threshold_px", d.motion.epipolar_threshold_px)
-      .read("reprojection_threshold_px", d.motion.reprojection_threshold_px)
-      .read("fb_max_error", d.motion.fb_max_error)
-      .read("lk_window", d.motion.lk_window);
+  mo.read("epipolar_threshold_px", mc.epipolar_threshold_px)
+      .read("reprojection_threshold_px", mc.reprojection_threshold_px)
+      .read("fb_max_error", mc.fb_max_error)
+      .read("lk_window", mc.lk_window)
+      .read("lk_max_level", mc.lk_max_level)
+      .read("lk_downsample", mc.lk_downsample)
+      .read("fundamental_with_pose", mc.fundamental_with_pose)
+      .read("region_min_dynamic_ratio", mc.region_min_dynamic_ratio)
+      .read("mask_downsample", mc.mask_downsample)
+      .read("max_seed_distance_px", mc.max_seed_distance_px);
+  ConfigSection rg = mo.sub("region_grow");
+  rg.read("step_tolerance", mc.grow.step_tolerance)
+      .read("max_depth_offset_m", mc.grow.max_depth_offset_m)
+      .read("min_seeds", mc.grow.min_seeds);
+  rg.rejectUnknownKeys();
   mo.rejectUnknownKeys();
+  if (mc.lk_downsample != 1 && mc.lk_downsample != 2)
+    throw InputError(path, "dynamic.motion_check.lk_downsample must be 1 or 2");
+  if (mc.lk_window < 3 || mc.lk_max_level < 0 || mc.mask_downsample < 1)
+    throw InputError(path, "dynamic.motion_check: lk_window >= 3, lk_max_level >= 0, "
+                           "mask_downsample >= 1 required");
   dy.rejectUnknownKeys();
 
   loop::LoopClosingParams& l = c.loop;

@@ -186,6 +186,35 @@ TEST(RenderGeometry, FrustumOpensAlongTheViewingDirection) {
   EXPECT_LT(by, 119.5 - 20);
 }
 
+TEST(RenderGeometry, UpIsAFloorLikeFaceNormalNotTheCamerasImageUp) {
+  // The keyframes (z = 0.4) look 14 deg down at the cube with a +-30 deg yaw
+  // spread: their mean image-up axis leans 14 deg towards the cube. The
+  // cube's bottom face (z = -0.5) has the cameras above it: its normal,
+  // oriented towards them, is +z. (The top face, z = 0.5, is above the
+  // cameras: oriented towards them it points down and is rejected.)
+  const MapData map = cubeMap();
+  const auto prior = estimateUpDirection(map.keyframes);
+  EXPECT_LT(prior[2], std::cos(10 * M_PI / 180));
+  const SceneFrame f = frameScene(map);
+  EXPECT_NEAR(f.up[0], 0, 1e-3);
+  EXPECT_NEAR(f.up[1], 0, 1e-3);
+  EXPECT_NEAR(f.up[2], 1, 1e-3);
+}
+
+TEST(RenderGeometry, CollinearClustersDoNotTiltUp) {
+  // Three small clusters on a line fit planes of any orientation around it:
+  // they must not decide "up"; the upright keyframe's estimate stays.
+  MapData map;
+  addCluster(map, 0, 0, 0, 255, 0, 0);
+  addCluster(map, 0.5, 0, 0, 0, 255, 0);
+  addCluster(map, 1.0, 0, 0, 0, 0, 255);
+  StampedPose kf;
+  kf.pose = lookAt(-1, 0.3, 0.5, 0, 0, 0.5);
+  map.keyframes.push_back(kf);
+  const SceneFrame f = frameScene(map);
+  EXPECT_NEAR(f.up[2], 1, 1e-6);
+}
+
 TEST(RenderGeometry, SameInputSamePixels) {
   MapRenderer renderer(smallOptions());
   const MapData map = cubeMap();
