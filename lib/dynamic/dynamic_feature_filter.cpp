@@ -228,6 +228,7 @@ void DynamicFeatureFilter::process(const RGBDFrame& frame, const cv::Mat& gray,
   // Box depth masks, at the depth of the moving points inside each box where
   // there are enough of them (the histogram's nearest peak may be an occluder).
   t0 = cv::getTickCount();
+  cv::Mat box_mask;
   if (!boxes_now_.empty()) {
     std::vector<float> hints(boxes_now_.size(), 0.f);
     for (std::size_t b = 0; b < boxes_now_.size(); ++b) {
@@ -246,6 +247,7 @@ void DynamicFeatureFilter::process(const RGBDFrame& frame, const cv::Mat& gray,
     const cv::Mat bm =
         box_masker_.computeFromBoxes(frame.depth, camera_.depth_scale, boxes_now_, nullptr, &hints);
     mask_ |= bm;
+    box_mask = bm;
     if (!debug_dir_.empty()) debug_box_ = bm;
   }
   times_["boxes"].push_back(ms_boxes + msSince(t0));
@@ -266,14 +268,18 @@ void DynamicFeatureFilter::process(const RGBDFrame& frame, const cv::Mat& gray,
     debug_box_.release();
     debug_region_.release();
   }
-  if (p_.mask_margin_px > 0 && cv::countNonZero(mask_) > 0) {
-    const int k = 2 * p_.mask_margin_px + 1;
-    cv::dilate(mask_, mask_, cv::getStructuringElement(cv::MORPH_ELLIPSE, {k, k}));
-  }
-  for (std::size_t i = 0; i < keypoints.size(); ++i) {
-    const int u = cvRound(keypoints[i].pt.x), v = cvRound(keypoints[i].pt.y);
-    if (u >= 0 && v >= 0 && u < mask_.cols && v < mask_.rows && mask_.at<uint8_t>(v, u))
-      dynamic[i] = 1;
+  std::size_t flagged = flagKeypoints(keypoints, dynamic);
+  if (p_.max_motion_fraction < 1.0 && flagged > p_.max_motion_fraction * keypoints.size()) {
+    // Motion evidence covering most of the image is a failed camera-motion
+    // fit (blur, a mover filling the view), not most of the scene moving:
+    // trust only the detector's boxes this frame and carry nothing forward,
+    // or tracking is starved of the static points it needs.
+    mask_ = box_mask.empty() ? cv::Mat::zeros(gray.size(), CV_8UC1) : box_mask.clone();
+    std::fill(dynamic.begin(), dynamic.end(), 0);
+    flagKeypoints(keypoints, dynamic);
+    carried.clear();
+    carried_age.clear();
+    ++motion_fallbacks_;
   }
   if (need_lk) {
     selectFlowPoints(keypoints, carried, carried_age);
@@ -281,6 +287,23 @@ void DynamicFeatureFilter::process(const RGBDFrame& frame, const cv::Mat& gray,
     have_prev_ = true;
   }
   times_["total"].push_back(msSince(t_all));
+}
+
+std::size_t DynamicFeatureFilter::flagKeypoints(const std::vector<cv::KeyPoint>& keypoints,
+                                               std::vector<uint8_t>& dynamic) {
+  if (p_.mask_margin_px > 0 && cv::countNonZero(mask_) > 0) {
+    const int k = 2 * p_.mask_margin_px + 1;
+    cv::dilate(mask_, mask_, cv::getStructuringElement(cv::MORPH_ELLIPSE, {k, k}));
+  }
+  std::size_t n = 0;
+  for (std::size_t i = 0; i < keypoints.size(); ++i) {
+    const int u = cvRound(keypoints[i].pt.x), v = cvRound(keypoints[i].pt.y);
+    if (u >= 0 && v >= 0 && u < mask_.cols && v < mask_.rows && mask_.at<uint8_t>(v, u)) {
+      dynamic[i] = 1;
+      ++n;
+    }
+  }
+  return n;
 }
 
 }  // namespace dynslam

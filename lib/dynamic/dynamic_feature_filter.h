@@ -65,6 +65,10 @@ struct DynamicFilterParams {
   /// (carried) points inside it needs at least this many of them; otherwise
   /// the box's depth histogram decides (0 = never use the points).
   int min_hint_points = 5;
+  /// When more than this share of a frame's keypoints would be flagged, the
+  /// motion evidence is dropped for that frame (detector boxes only): a
+  /// camera-motion fit that fails on blur flags the static scene.
+  double max_motion_fraction = 0.5;
   YoloDetectorParams detector;
   BoxDepthParams box_mask;
   BoxCarrierParams carrier;
@@ -92,6 +96,8 @@ class DynamicFeatureFilter : public ObservationPreprocessor {
   const std::map<std::string, std::vector<double>>& stageTimes() const { return times_; }
 
  private:
+  /// Dilates mask_ by the margin and flags the keypoints on it; returns how many.
+  std::size_t flagKeypoints(const std::vector<cv::KeyPoint>& keypoints, std::vector<uint8_t>& dynamic);
   void submitToDetector(const cv::Mat& bgr, long frame);
   void collectDetections(const cv::Mat& bgr, long frame);
   void detectorLoop();
@@ -112,6 +118,7 @@ class DynamicFeatureFilter : public ObservationPreprocessor {
   bool have_prev_ = false;
   cv::Mat prev_motion_mask_;  // grown motion regions of the previous frame
   int unreliable_run_ = 0;    // consecutive frames whose motion fit was unreliable
+  std::size_t motion_fallbacks_ = 0;  // frames whose motion evidence was dropped (max_motion_fraction)
   long frame_ = -1;
   long last_submitted_ = -1000000;
   cv::Mat mask_;

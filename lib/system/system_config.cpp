@@ -96,7 +96,8 @@ SlamConfig loadSlamConfig(const std::string& path) {
       .read("max_flow_points", d.max_flow_points)
       .read("carry_boxes", d.carry_boxes)
       .read("carry_frames", d.carry_frames)
-      .read("min_hint_points", d.min_hint_points);
+      .read("min_hint_points", d.min_hint_points)
+      .read("max_motion_fraction", d.max_motion_fraction);
   if (d.detector_interval < 1 || d.mask_margin_px < 0 || d.moving_point_radius_px < 0 ||
       d.max_flow_points < 0 || d.carry_frames < 0 || d.carry_frames > 255 ||
       d.min_hint_points < 0)

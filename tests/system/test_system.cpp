@@ -390,7 +390,8 @@ TEST(SystemRpy, RelocalisesAfterABlackout) {
 // Scoring against true masks on a short composite made by the shared tool
 // (walkers appear from frame 16). Known data: the masks. With mode off nothing
 // can be flagged (recall 0); the motion check must catch a good share of the
-// walker keypoints (measured 0.65 over these 30 frames, 4.4 % static flagged)
+// walker keypoints (measured 0.46 over these 30 frames, 2.7 % static flagged,
+// since grown regions are cut 40 px from moving points; 0.65 / 4.4 % before)
 // while leaving the static scene mostly alone.
 TEST(SystemDynamic, ScoresAgainstTrueMasksOfAComposite) {
   TempDir d;
@@ -421,7 +422,7 @@ TEST(SystemDynamic, ScoresAgainstTrueMasksOfAComposite) {
   EXPECT_EQ(false_off, 0.0);
   const auto [walkers, flagged, recall, false_rate] = scores("flow");
   EXPECT_EQ(walkers, walkers_off);  // same keypoints, only the flags differ
-  EXPECT_GT(recall, 0.5);
+  EXPECT_GT(recall, 0.4);
   EXPECT_LT(false_rate, 0.10);
 }
 
