@@ -86,6 +86,7 @@ std::vector<ModeSummary> summarizeModes(const BenchResults& res) {
       m.sequence = seq.name;
       m.mode = mode;
       std::vector<double> ate, ate_sd, rt, rt_sd, rr, rr_sd, cov, fmean, fmed, fp95, tmed, fps, mem;
+      std::vector<double> recall, fr, fr_out, standing;
       std::vector<std::pair<double, int>> ate_by_run;
       int first_ok = 0;
       for (const RunRecord& r : res.runs) {
@@ -103,6 +104,10 @@ std::vector<ModeSummary> summarizeModes(const BenchResults& res) {
         tmed.push_back(t.median);
         fps.push_back(r.fps);
         mem.push_back(r.peak_rss_mb);
+        recall.push_back(r.recall);
+        fr.push_back(r.false_rejection);
+        fr_out.push_back(r.false_rejection_outside_boxes);
+        standing.push_back(r.standing_rejection);
         if (r.evaluation) {
           const Evaluation& e = *r.evaluation;
           ate.push_back(e.ate.stats.rmse);
@@ -128,6 +133,10 @@ std::vector<ModeSummary> summarizeModes(const BenchResults& res) {
       m.track_median_ms = spreadOf(tmed);
       m.fps = spreadOf(fps);
       m.peak_rss_mb = spreadOf(mem);
+      m.recall = spreadOf(recall);
+      m.false_rejection = spreadOf(fr);
+      m.false_rejection_outside_boxes = spreadOf(fr_out);
+      m.standing_rejection = spreadOf(standing);
       m.representative_run = first_ok;
       double best = std::numeric_limits<double>::infinity();
       for (const auto& [value, run] : ate_by_run) {
@@ -203,6 +212,10 @@ std::string BenchReport::json() const {
       spreadJson(w, "track_median_ms", m.track_median_ms);
       spreadJson(w, "fps", m.fps);
       spreadJson(w, "peak_rss_mb", m.peak_rss_mb);
+      spreadJson(w, "walker_recall", m.recall);
+      spreadJson(w, "static_false_rejection", m.false_rejection);
+      spreadJson(w, "static_false_rejection_outside_unmasked_person_boxes", m.false_rejection_outside_boxes);
+      spreadJson(w, "standing_rejection", m.standing_rejection);
       w.endObject();
       if (off && mode != "off") {
         const Improvement i = improvementOver(*off, m);
@@ -285,6 +298,22 @@ std::string BenchReport::markdown() const {
       md << "| " << mode << " | " << cell(m.frame_mean_ms, 1) << " | " << cell(m.frame_median_ms, 1)
          << " | " << cell(m.frame_p95_ms, 1) << " | " << cell(m.track_median_ms, 2) << " | "
          << cell(m.fps, 1) << " | " << cell(m.peak_rss_mb, 0) << " |\n";
+    }
+    bool has_masks = false;
+    for (const auto& mode : o.modes) has_masks |= find(seq.name, mode)->recall.n > 0;
+    if (has_masks) {
+      md << "\nDynamic-feature scores against the sequence's true masks (keypoints at least 3 px "
+            "inside a walker mask flagged dynamic; static keypoints flagged, all and outside "
+            "person boxes that hold no true mask, i.e. without the real seated person; "
+            "standing-still people flagged):\n\n"
+         << "| mode | walker recall [%] | static flagged [%] | static flagged outside unmasked person boxes [%] | standing-still flagged [%] |\n"
+         << "|---|---|---|---|---|\n";
+      for (const auto& mode : o.modes) {
+        const ModeSummary& m = *find(seq.name, mode);
+        md << "| " << mode << " | " << cell(m.recall, 1, 100) << " | " << cell(m.false_rejection, 1, 100)
+           << " | " << cell(m.false_rejection_outside_boxes, 1, 100) << " | "
+           << cell(m.standing_rejection, 1, 100) << " |\n";
+      }
     }
     const ModeSummary* off = find(seq.name, "off");
     if (off && !seq.groundtruth.empty() && o.modes.size() > 1) {

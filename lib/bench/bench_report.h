@@ -20,6 +20,8 @@ struct ModeSummary {
   Spread ate_rmse, ate_sd, rpe_trans_rmse, rpe_trans_sd, rpe_rot_rmse, rpe_rot_sd, coverage;
   // Speed and memory.
   Spread frame_mean_ms, frame_median_ms, frame_p95_ms, track_median_ms, fps, peak_rss_mb;
+  // Dynamic-feature scores against true masks (NaN without masks).
+  Spread recall, false_rejection, false_rejection_outside_boxes, standing_rejection;
   /// The run shown in the plots: ATE RMSE closest to the median (the first
   /// successful run without groundtruth); 0 if every run failed.
   int representative_run = 0;

@@ -93,7 +93,13 @@ RunRecord BenchRunner::runOne(const SequenceInfo& seq, const std::string& mode, 
       r.error = "dynslam run: " + child.describe() + (tail.empty() ? "" : ": " + tail);
       return r;
     }
-    r.fps = jsonTopLevelNumber(readTextFile(r.dir + "/report.json"), "fps");
+    const std::string report = readTextFile(r.dir + "/report.json");
+    r.fps = jsonTopLevelNumber(report, "fps");
+    r.recall = jsonTopLevelNumber(report, "recall");
+    r.false_rejection = jsonTopLevelNumber(report, "false_rejection_rate");
+    r.false_rejection_outside_boxes =
+        jsonTopLevelNumber(report, "false_rejection_rate_outside_unmasked_person_boxes");
+    r.standing_rejection = jsonTopLevelNumber(report, "standing_rejection_rate");
     r.times = readFrameTimes(r.dir + "/frame_times.txt");
     if (!seq.groundtruth.empty()) {
       // Exactly `dynslam eval GT EST --seq SEQ` (coverage needs a TUM folder),

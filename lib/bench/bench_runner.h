@@ -46,6 +46,10 @@ struct RunRecord {
   double wall_s = 0;     ///< of the child process
   double peak_rss_mb = 0;  ///< of the child process (wait4)
   double fps = 0;          ///< report.json "fps" (frames / tracking-loop time)
+  /// report.json mask_scores (NaN when the sequence has no true masks):
+  /// walker recall, static false rejections (all, and outside person boxes
+  /// that hold no true mask), standing-still people flagged.
+  double recall = 0, false_rejection = 0, false_rejection_outside_boxes = 0, standing_rejection = 0;
   FrameTimes times;
   std::optional<Evaluation> evaluation;  ///< when the sequence has groundtruth
 };

@@ -170,7 +170,10 @@ std::string writeFakeDynslam(const TempDir& dir, const std::string& trajectory) 
                   "out=\"$4\"; mode=\"$6\"\n"
                   "if [ \"$mode\" = flow ]; then echo 'simulated failure' >&2; exit 3; fi\n"
                   "cp '" + trajectory + "' \"$out/trajectory.txt\"\n"
-                  "printf '{\\n  \"fps\": 12.5,\\n  \"peak_rss_mb\": 1\\n}\\n' > \"$out/report.json\"\n"
+                  "printf '{\\n  \"fps\": 12.5,\\n  \"peak_rss_mb\": 1,\\n  \"mask_scores\": {\\n    "
+                  "\"recall\": 0.9,\\n    \"false_rejection_rate\": 0.08,\\n    "
+                  "\"false_rejection_rate_outside_unmasked_person_boxes\": 0.05,\\n    "
+                  "\"standing_rejection_rate\": 0.5\\n  }\\n}\\n' > \"$out/report.json\"\n"
                   "printf '# t track total\\n1.0 2.0 4.0\\n2.0 3.0 nan\\n3.0 1.0 8.0\\n' > \"$out/frame_times.txt\"\n");
   ::chmod(path.c_str(), 0755);
   return path;
@@ -206,6 +209,10 @@ TEST(BenchRunner, NumbersAreThoseOfDynslamEval) {
   ASSERT_TRUE(ok.ok) << ok.error;
   EXPECT_EQ(ok.dir, o.out_dir + "/rgbd_dataset_freiburg1_rpy/off/run1");
   EXPECT_DOUBLE_EQ(ok.fps, 12.5);
+  EXPECT_DOUBLE_EQ(ok.recall, 0.9);
+  EXPECT_DOUBLE_EQ(ok.false_rejection, 0.08);
+  EXPECT_DOUBLE_EQ(ok.false_rejection_outside_boxes, 0.05);
+  EXPECT_DOUBLE_EQ(ok.standing_rejection, 0.5);
   ASSERT_EQ(ok.times.frame_ms.size(), 3u);
   EXPECT_TRUE(std::isnan(ok.times.frame_ms[1]));
   EXPECT_GT(ok.peak_rss_mb, 0);
@@ -214,6 +221,9 @@ TEST(BenchRunner, NumbersAreThoseOfDynslamEval) {
   EXPECT_NE(bad.error.find("exit code 3"), std::string::npos) << bad.error;
   EXPECT_NE(bad.error.find("simulated failure"), std::string::npos) << bad.error;
   EXPECT_EQ(res.failures(), 1u);
+  // The mask scores reach the Markdown table as percentages.
+  const std::string md = BenchReport(res).markdown();
+  EXPECT_NE(md.find("| off | 90.0 | 8.0 | 5.0 | 50.0 |"), std::string::npos) << md;
 
   const std::string report = BenchReport(res).json();
   const test::CommandResult eval = test::runDynslam(
