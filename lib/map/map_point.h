@@ -31,6 +31,7 @@ class MapPoint {
   long first_kf_id;
   std::map<KeyFrame*, int, KeyFrameIdLess> obs;  ///< keyframe -> keypoint index
   int visible = 1, found = 1;    ///< for the found/visible ratio culling
+  int dynamic_hits = 0;          ///< frames where it matched a keypoint flagged dynamic
   bool bad = false;
   MapPoint* replaced = nullptr;
 

@@ -273,6 +273,7 @@ RunSummary runSlam(const RunOptions& opt) {
   writeStats(w, "ba_ms", ms.ba_ms);
   writeStats(w, "keyframe_ms", ms.step_ms);
   w.endObject();
+  w.value("map_points_culled_as_dynamic", slam.culledDynamicPoints());
   w.beginArray("relocalisations");
   for (const auto& r : slam.relocalisations())
     w.beginObject().value("frame", r.frame_index).value("keyframe", static_cast<int64_t>(r.keyframe_id)).endObject();

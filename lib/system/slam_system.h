@@ -53,6 +53,7 @@ class SlamSystem {
   loop::LoopClosingStats loopStats() const { return loop_ ? loop_->stats() : loop::LoopClosingStats{}; }
   const FrameContext& context() const { return *ctx_; }
   const std::vector<Tracker::Relocalisation>& relocalisations() const { return tracker_->relocalisations(); }
+  std::size_t culledDynamicPoints() const { return tracker_->culledDynamicPoints(); }
 
  private:
   SlamConfig cfg_;

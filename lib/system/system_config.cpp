@@ -50,6 +50,7 @@ SlamConfig loadSlamConfig(const std::string& path) {
       .read("kf_close_tracked_max", t.kf_close_tracked_max)
       .read("kf_close_untracked_min", t.kf_close_untracked_min)
       .read("kf_min_new_points", t.kf_min_new_points)
+      .read("cull_dynamic_hits", t.cull_dynamic_hits)
       .read("init_min_points", t.init_min_points)
       .read("temporal_points", t.temporal_points)
       .read("reloc_candidates", t.reloc_candidates)

@@ -1,5 +1,7 @@
 #include "tracking/tracker.h"
 
+#include "features/orb_extractor.h"
+
 #include <mrpt/poses/Lie/SE.h>
 
 #include <opencv2/calib3d.hpp>
@@ -387,7 +389,38 @@ void Tracker::searchLocalPoints() {
   }
   int found = 0;
   if (to_match > 0) found = matcher_.searchByProjection(cur_, local_points_, p_.local_search_radius);
+  if (p_.cull_dynamic_hits > 0) cullPointsOnDynamicKeypoints();
   if (kDebug) std::fprintf(stderr, "[track] local map: %d in view, %d new matches\n", to_match, found);
+}
+
+void Tracker::cullPointsOnDynamicKeypoints() {
+  const FeatureSet& f = cur_.f();
+  std::vector<int> dyn;
+  for (std::size_t i = 0; i < f.size(); ++i)
+    if (f.dynamic[i]) dyn.push_back(static_cast<int>(i));
+  if (dyn.empty()) return;
+  const FrameContext& ctx = *f.ctx;
+  int culled = 0;
+  for (MapPoint* mp : local_points_) {
+    if (!mp->track_in_view || mp->bad || mp->last_seen_frame == cur_.id) continue;
+    const float r = 2.0f * p_.local_search_radius * ctx.scale[std::max(0, mp->pred_level)];
+    const uint8_t* d = mp->descriptor.ptr<uint8_t>();
+    bool hit = false;
+    for (int j : dyn) {
+      const cv::Point2f& pt = f.keys_un[j].pt;
+      if (std::abs(pt.x - mp->proj_x) > r || std::abs(pt.y - mp->proj_y) > r) continue;
+      if (descriptorDistance(d, f.descriptor(j)) <= kDynamicMatchDistance) {
+        hit = true;
+        break;
+      }
+    }
+    if (!hit) continue;
+    if (++mp->dynamic_hits >= p_.cull_dynamic_hits && mp->dynamic_hits >= mp->found) {
+      mp->setBad();
+      ++culled;
+    }
+  }
+  culled_dynamic_points_ += culled;
 }
 
 bool Tracker::trackLocalMap() {

@@ -30,6 +30,11 @@ struct TrackerParams {
   int kf_close_tracked_max = 100;     ///< ...or when few close points are tracked
   int kf_close_untracked_min = 70;    ///< ...and many close points are not
   int kf_min_new_points = 100;        ///< map points a new keyframe creates from depth, at least
+  /// A map point that matches a keypoint flagged dynamic (descriptor within
+  /// 50 bits, near its projection) in this many frames, and in at least as
+  /// many as it was tracked in, is culled: it sits on something that moves
+  /// (a walker keypoint the filter missed once). 0 = off.
+  int cull_dynamic_hits = 2;
   int init_min_points = 500;          ///< keypoints with depth to initialise
   /// Temporary visual-odometry points from the last frame's depth for the
   /// motion model. Off by default: they chain each pose to the previous
@@ -110,6 +115,8 @@ class Tracker {
     long keyframe_id;
   };
   const std::vector<Relocalisation>& relocalisations() const { return relocalisations_; }
+  /// Map points culled for matching dynamic keypoints (cull_dynamic_hits).
+  std::size_t culledDynamicPoints() const { return culled_dynamic_points_; }
 
  private:
   bool initialize();
@@ -127,6 +134,9 @@ class Tracker {
   /// close_depth) and at least kf_min_new_points in all.
   std::vector<int> pointsFromDepth(const FeatureSet& f, bool skip_dynamic) const;
   bool isInFrustum(MapPoint* mp, float view_cos_limit);
+  /// See TrackerParams::cull_dynamic_hits.
+  void cullPointsOnDynamicKeypoints();
+  static constexpr int kDynamicMatchDistance = 50;
 
   Map& map_;
   KeyFrameSink& sink_;
@@ -150,6 +160,7 @@ class Tracker {
   std::vector<FramePoseRecord> records_;
   RelocalisationCandidateSource* candidate_source_ = nullptr;
   std::vector<Relocalisation> relocalisations_;
+  std::size_t culled_dynamic_points_ = 0;
 };
 
 }  // namespace dynslam
