@@ -76,6 +76,40 @@ if [ ! -f "$WALKERS/groundtruth.txt" ] || [ ! -d "$WALKERS/masks" ]; then
   mv "$WALKERS.tmp" "$WALKERS"
 fi
 
+# Issue 7 scenarios, made from fr1_rpy's lists (images linked, not copied):
+# a 40-frame blackout in the middle (frames 330..369 removed), and the whole
+# sequence played twice (second pass shifted by the sequence's time span, the
+# groundtruth likewise).
+derived_sequence() {  # NAME KIND
+  local dir="$CACHE/$1"
+  [ -f "$dir/groundtruth.txt" ] && return 0
+  rm -rf "$dir"; mkdir -p "$dir"
+  ln -s "$RPY/rgb" "$dir/rgb"; ln -s "$RPY/depth" "$dir/depth"
+  if [ "$2" = gap ]; then
+    # rgb.txt / depth.txt entries whose time falls in the 40 RGB frames 330..369
+    local t0 t1
+    t0=$(grep -v '^#' "$RPY/rgb.txt" | sed -n '331p' | cut -d' ' -f1)
+    t1=$(grep -v '^#' "$RPY/rgb.txt" | sed -n '371p' | cut -d' ' -f1)
+    for f in rgb.txt depth.txt; do
+      grep -v '^#' "$RPY/$f" | awk -v a="$t0" -v b="$t1" '!($1 >= a - 0.01 && $1 < b - 0.01)' >"$dir/$f"
+    done
+    cp "$RPY/groundtruth.txt" "$dir/groundtruth.txt"
+  else
+    local shift
+    shift=$(cat "$RPY/rgb.txt" "$RPY/depth.txt" "$RPY/groundtruth.txt" | grep -v '^#' |
+            awk 'NR == 1 {lo = hi = $1} {if ($1 < lo) lo = $1; if ($1 > hi) hi = $1} END {printf "%.4f", hi - lo + 1}')
+    for f in rgb.txt depth.txt groundtruth.txt; do
+      { grep -v '^#' "$RPY/$f"
+        grep -v '^#' "$RPY/$f" | awk -v s="$shift" '{t = $1; $1 = ""; printf "%.6f%s\n", t + s, $0}'
+      } >"$dir/$f"
+    done
+  fi
+}
+GAP="$CACHE/rgbd_dataset_freiburg1_rpy_gap40"
+TWICE="$CACHE/rgbd_dataset_freiburg1_rpy_twice"
+derived_sequence rgbd_dataset_freiburg1_rpy_gap40 gap
+derived_sequence rgbd_dataset_freiburg1_rpy_twice twice
+
 # ---------------------------------------------------------------- 3. bench
 rm -rf "$OUT"
 mkdir -p "$OUT"
@@ -90,6 +124,8 @@ run_bench() {  # NAME SEQ MODES
 }
 run_bench fr1_rpy "$RPY" off,detect+flow
 run_bench rpy_walkers "$WALKERS" off,detect,flow,detect+flow
+run_bench fr1_rpy_gap40 "$GAP" off
+run_bench fr1_rpy_twice "$TWICE" off
 
 # ------------------------------------- 4. conversion, export, render timings
 TOOLS_MD="$OUT/tools.md"
@@ -160,7 +196,7 @@ rm -rf "$IMAGES"
 mkdir -p "$IMAGES"
 REPORTS_MD="$OUT/reports.md"
 : >"$REPORTS_MD"
-for bench in fr1_rpy rpy_walkers; do
+for bench in fr1_rpy rpy_walkers fr1_rpy_gap40 fr1_rpy_twice; do
   (cd "$OUT/$bench" && find . -mindepth 3 -maxdepth 3 -name '*.png' -print0 | xargs -0 -I{} cp --parents {} "$IMAGES/")
   # Titles one level down, image links into docs/images/bench, paths relative.
   # From the first sequence heading on (the page explains the columns once).

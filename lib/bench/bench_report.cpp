@@ -86,7 +86,7 @@ std::vector<ModeSummary> summarizeModes(const BenchResults& res) {
       m.sequence = seq.name;
       m.mode = mode;
       std::vector<double> ate, ate_sd, rt, rt_sd, rr, rr_sd, cov, fmean, fmed, fp95, tmed, fps, mem;
-      std::vector<double> recall, fr, fr_out, standing;
+      std::vector<double> recall, fr, fr_out, standing, kfs, points, relocs, loops;
       std::vector<std::pair<double, int>> ate_by_run;
       int first_ok = 0;
       for (const RunRecord& r : res.runs) {
@@ -108,6 +108,10 @@ std::vector<ModeSummary> summarizeModes(const BenchResults& res) {
         fr.push_back(r.false_rejection);
         fr_out.push_back(r.false_rejection_outside_boxes);
         standing.push_back(r.standing_rejection);
+        kfs.push_back(r.keyframes);
+        points.push_back(r.map_points);
+        relocs.push_back(r.relocalisations);
+        loops.push_back(r.loops_closed);
         if (r.evaluation) {
           const Evaluation& e = *r.evaluation;
           ate.push_back(e.ate.stats.rmse);
@@ -137,6 +141,10 @@ std::vector<ModeSummary> summarizeModes(const BenchResults& res) {
       m.false_rejection = spreadOf(fr);
       m.false_rejection_outside_boxes = spreadOf(fr_out);
       m.standing_rejection = spreadOf(standing);
+      m.keyframes = spreadOf(kfs);
+      m.map_points = spreadOf(points);
+      m.relocalisations = spreadOf(relocs);
+      m.loops_closed = spreadOf(loops);
       m.representative_run = first_ok;
       double best = std::numeric_limits<double>::infinity();
       for (const auto& [value, run] : ate_by_run) {
@@ -216,6 +224,10 @@ std::string BenchReport::json() const {
       spreadJson(w, "static_false_rejection", m.false_rejection);
       spreadJson(w, "static_false_rejection_outside_unmasked_person_boxes", m.false_rejection_outside_boxes);
       spreadJson(w, "standing_rejection", m.standing_rejection);
+      spreadJson(w, "keyframes", m.keyframes);
+      spreadJson(w, "map_points", m.map_points);
+      spreadJson(w, "relocalisations", m.relocalisations);
+      spreadJson(w, "loops_closed", m.loops_closed);
       w.endObject();
       if (off && mode != "off") {
         const Improvement i = improvementOver(*off, m);
@@ -298,6 +310,13 @@ std::string BenchReport::markdown() const {
       md << "| " << mode << " | " << cell(m.frame_mean_ms, 1) << " | " << cell(m.frame_median_ms, 1)
          << " | " << cell(m.frame_p95_ms, 1) << " | " << cell(m.track_median_ms, 2) << " | "
          << cell(m.fps, 1) << " | " << cell(m.peak_rss_mb, 0) << " |\n";
+    }
+    md << "\n| mode | keyframes | map points | relocalisations | loops closed |\n"
+       << "|---|---|---|---|---|\n";
+    for (const auto& mode : o.modes) {
+      const ModeSummary& m = *find(seq.name, mode);
+      md << "| " << mode << " | " << cell(m.keyframes, 0) << " | " << cell(m.map_points, 0) << " | "
+         << cell(m.relocalisations, 0) << " | " << cell(m.loops_closed, 0) << " |\n";
     }
     bool has_masks = false;
     for (const auto& mode : o.modes) has_masks |= find(seq.name, mode)->recall.n > 0;

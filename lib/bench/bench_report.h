@@ -22,6 +22,8 @@ struct ModeSummary {
   Spread frame_mean_ms, frame_median_ms, frame_p95_ms, track_median_ms, fps, peak_rss_mb;
   // Dynamic-feature scores against true masks (NaN without masks).
   Spread recall, false_rejection, false_rejection_outside_boxes, standing_rejection;
+  // Map size and place recognition.
+  Spread keyframes, map_points, relocalisations, loops_closed;
   /// The run shown in the plots: ATE RMSE closest to the median (the first
   /// successful run without groundtruth); 0 if every run failed.
   int representative_run = 0;

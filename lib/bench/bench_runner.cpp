@@ -100,6 +100,10 @@ RunRecord BenchRunner::runOne(const SequenceInfo& seq, const std::string& mode, 
     r.false_rejection_outside_boxes =
         jsonTopLevelNumber(report, "false_rejection_rate_outside_unmasked_person_boxes");
     r.standing_rejection = jsonTopLevelNumber(report, "standing_rejection_rate");
+    r.keyframes = jsonTopLevelNumber(report, "keyframes");
+    r.map_points = jsonTopLevelNumber(report, "map_points");
+    r.relocalisations = jsonTopLevelNumber(report, "relocalisation_count");
+    r.loops_closed = jsonTopLevelNumber(report, "loops_closed");
     r.times = readFrameTimes(r.dir + "/frame_times.txt");
     if (!seq.groundtruth.empty()) {
       // Exactly `dynslam eval GT EST --seq SEQ` (coverage needs a TUM folder),

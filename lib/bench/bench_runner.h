@@ -50,6 +50,8 @@ struct RunRecord {
   /// walker recall, static false rejections (all, and outside person boxes
   /// that hold no true mask), standing-still people flagged.
   double recall = 0, false_rejection = 0, false_rejection_outside_boxes = 0, standing_rejection = 0;
+  /// report.json: final map size and place-recognition events.
+  double keyframes = 0, map_points = 0, relocalisations = 0, loops_closed = 0;
   FrameTimes times;
   std::optional<Evaluation> evaluation;  ///< when the sequence has groundtruth
 };

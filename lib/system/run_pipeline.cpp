@@ -274,6 +274,7 @@ RunSummary runSlam(const RunOptions& opt) {
   writeStats(w, "keyframe_ms", ms.step_ms);
   w.endObject();
   w.value("map_points_culled_as_dynamic", slam.culledDynamicPoints());
+  w.value("relocalisation_count", slam.relocalisations().size());
   w.beginArray("relocalisations");
   for (const auto& r : slam.relocalisations())
     w.beginObject().value("frame", r.frame_index).value("keyframe", static_cast<int64_t>(r.keyframe_id)).endObject();

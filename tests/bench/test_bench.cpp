@@ -170,7 +170,8 @@ std::string writeFakeDynslam(const TempDir& dir, const std::string& trajectory) 
                   "out=\"$4\"; mode=\"$6\"\n"
                   "if [ \"$mode\" = flow ]; then echo 'simulated failure' >&2; exit 3; fi\n"
                   "cp '" + trajectory + "' \"$out/trajectory.txt\"\n"
-                  "printf '{\\n  \"fps\": 12.5,\\n  \"peak_rss_mb\": 1,\\n  \"mask_scores\": {\\n    "
+                  "printf '{\\n  \"fps\": 12.5,\\n  \"peak_rss_mb\": 1,\\n  \"keyframes\": 7,\\n  \"map_points\": 321,\\n  "
+                  "\"relocalisation_count\": 2,\\n  \"loop_closing\": {\\n    \"loops_closed\": 1\\n  },\\n  \"mask_scores\": {\\n    "
                   "\"recall\": 0.9,\\n    \"false_rejection_rate\": 0.08,\\n    "
                   "\"false_rejection_rate_outside_unmasked_person_boxes\": 0.05,\\n    "
                   "\"standing_rejection_rate\": 0.5\\n  }\\n}\\n' > \"$out/report.json\"\n"
@@ -224,6 +225,7 @@ TEST(BenchRunner, NumbersAreThoseOfDynslamEval) {
   // The mask scores reach the Markdown table as percentages.
   const std::string md = BenchReport(res).markdown();
   EXPECT_NE(md.find("| off | 90.0 | 8.0 | 5.0 | 50.0 |"), std::string::npos) << md;
+  EXPECT_NE(md.find("| off | 7 | 321 | 2 | 1 |"), std::string::npos) << md;
 
   const std::string report = BenchReport(res).json();
   const test::CommandResult eval = test::runDynslam(
