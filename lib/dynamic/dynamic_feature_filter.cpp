@@ -279,7 +279,6 @@ void DynamicFeatureFilter::process(const RGBDFrame& frame, const cv::Mat& gray,
     flagKeypoints(keypoints, dynamic);
     carried.clear();
     carried_age.clear();
-    ++motion_fallbacks_;
   }
   if (need_lk) {
     selectFlowPoints(keypoints, carried, carried_age);

@@ -68,7 +68,7 @@ struct DynamicFilterParams {
   /// When more than this share of a frame's keypoints would be flagged, the
   /// motion evidence is dropped for that frame (detector boxes only): a
   /// camera-motion fit that fails on blur flags the static scene.
-  double max_motion_fraction = 0.5;
+  double max_motion_fraction = 0.7;
   YoloDetectorParams detector;
   BoxDepthParams box_mask;
   BoxCarrierParams carrier;
@@ -118,7 +118,6 @@ class DynamicFeatureFilter : public ObservationPreprocessor {
   bool have_prev_ = false;
   cv::Mat prev_motion_mask_;  // grown motion regions of the previous frame
   int unreliable_run_ = 0;    // consecutive frames whose motion fit was unreliable
-  std::size_t motion_fallbacks_ = 0;  // frames whose motion evidence was dropped (max_motion_fraction)
   long frame_ = -1;
   long last_submitted_ = -1000000;
   cv::Mat mask_;

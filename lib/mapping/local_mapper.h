@@ -30,7 +30,7 @@ struct LocalMapperParams {
   bool local_ba = true;
   /// Skip BA and keyframe culling for a keyframe when another one is already
   /// waiting (ORB-SLAM's behaviour; keeps the mapper from falling behind).
-  bool skip_ba_when_busy = true;
+  bool skip_ba_when_busy = false;
   /// Local BA window: the new keyframe and its most covisible neighbours.
   /// In rotation-heavy sequences every keyframe is covisible with every
   /// other, and an unbounded window makes BA cost grow with the map.
