@@ -46,12 +46,7 @@ BowVector LoopClosing::describe(const FeatureSet& f) const {
 }
 
 void LoopClosing::keyFrameMapped(KeyFrame* kf) {
-  BowVector bow = describe(kf->f());
-  {
-    std::lock_guard<std::mutex> lk(bows_mutex_);
-    bows_[kf] = bow;
-  }
-  db_.add(kf, std::move(bow));
+  db_.add(kf, describe(kf->f()));
   {
     std::lock_guard<std::mutex> lk(stats_mutex_);
     stats_.keyframes_indexed++;
@@ -68,11 +63,7 @@ void LoopClosing::keyFrameMapped(KeyFrame* kf) {
   cv_.notify_all();
 }
 
-void LoopClosing::keyFrameCulled(KeyFrame* kf) {
-  db_.erase(kf);
-  std::lock_guard<std::mutex> lk(bows_mutex_);
-  bows_.erase(kf);
-}
+void LoopClosing::keyFrameCulled(KeyFrame* kf) { db_.erase(kf); }
 
 std::vector<KeyFrame*> LoopClosing::relocalisationCandidates(const FeatureSet& f) {
   {
@@ -127,12 +118,7 @@ LoopClosingStats LoopClosing::stats() const {
 void LoopClosing::process(KeyFrame* kf) {
   const auto t0 = std::chrono::steady_clock::now();
   BowVector bow;
-  {
-    std::lock_guard<std::mutex> lk(bows_mutex_);
-    auto it = bows_.find(kf);
-    if (it == bows_.end()) return;  // culled meanwhile
-    bow = it->second;
-  }
+  if (!db_.bowOf(kf, bow)) return;  // culled meanwhile
   std::vector<KeyFrame*> candidates = consistentCandidates(kf, bow);
   {
     std::lock_guard<std::mutex> lk(stats_mutex_);
@@ -155,14 +141,10 @@ std::vector<KeyFrame*> LoopClosing::consistentCandidates(KeyFrame* kf, const Bow
     }
     // A loop must look at least as similar as the keyframe's own neighbours.
     float min_score = 1.0f;
-    {
-      std::lock_guard<std::mutex> lb(bows_mutex_);
-      for (KeyFrame* n : kf->orderedCovisibles()) {
-        auto it = bows_.find(n);
-        if (n->bad || it == bows_.end()) continue;
-        min_score = std::min(min_score, static_cast<float>(l1Score(bow, it->second)));
-      }
-    }
+    BowVector other;
+    for (KeyFrame* n : kf->orderedCovisibles())
+      if (!n->bad && db_.bowOf(n, other))
+        min_score = std::min(min_score, static_cast<float>(l1Score(bow, other)));
     if (kf->orderedCovisibles().empty()) min_score = 0;
     cands = db_.detectLoopCandidates(kf, bow, min_score);
   }

@@ -15,7 +15,6 @@
 #include <set>
 #include <string>
 #include <thread>
-#include <unordered_map>
 #include <vector>
 
 #include "loop/loop_corrector.h"
@@ -85,8 +84,6 @@ class LoopClosing : public MappedKeyFrameListener, public RelocalisationCandidat
   LoopCorrector corrector_;
   bool threaded_;
 
-  std::mutex bows_mutex_;
-  std::unordered_map<const KeyFrame*, BowVector> bows_;
   std::vector<std::pair<std::set<KeyFrame*>, int>> groups_;  ///< previous keyframe's candidate groups
   long last_loop_kf_ = -1000000;
 

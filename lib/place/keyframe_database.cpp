@@ -52,6 +52,14 @@ std::size_t KeyFrameDatabase::size() const {
   return bows_.size();
 }
 
+bool KeyFrameDatabase::bowOf(const KeyFrame* kf, BowVector& bow) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  const auto it = bows_.find(kf);
+  if (it == bows_.end()) return false;
+  bow = it->second;
+  return true;
+}
+
 std::vector<PlaceCandidate> KeyFrameDatabase::detectRelocalisationCandidates(
     const BowVector& bow) const {
   return detect(bow, {}, 0.f);

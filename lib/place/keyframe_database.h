@@ -38,6 +38,8 @@ class KeyFrameDatabase {
   void erase(const KeyFrame* kf);
   void clear();
   std::size_t size() const;
+  /// Copies kf's indexed BoW vector into bow; false if kf is not indexed.
+  bool bowOf(const KeyFrame* kf, BowVector& bow) const;
 
   /// Keyframes that may show the place of a lost frame, best first: every
   /// keyframe sharing at least 80% of the best count of shared words is

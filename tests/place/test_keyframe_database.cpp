@@ -109,6 +109,14 @@ TEST(KeyFrameDatabase, GroupsAccumulateCovisibleScores) {
   ASSERT_EQ(ids(r2), std::vector<long>{1});
   EXPECT_NEAR(r2[0].score, 0.9f, 1e-6);
   EXPECT_EQ(db.size(), 4u);
+  // The stored vector is the one last added; erased keyframes have none.
+  BowVector stored;
+  ASSERT_TRUE(db.bowOf(a.get(), stored));
+  ASSERT_EQ(stored.size(), 3u);
+  EXPECT_EQ(stored[2].word, 9u);
+  EXPECT_FLOAT_EQ(stored[2].weight, 0.1f);
+  db.erase(a.get());
+  EXPECT_FALSE(db.bowOf(a.get(), stored));
 
   EXPECT_THROW(db.add(a.get(), BowVector{{10, 1.f}}), std::invalid_argument);
 }
