@@ -7,18 +7,6 @@ namespace dynslam::loop {
 
 namespace {
 
-std::shared_ptr<FrameContext> syntheticContext() {
-  PinholeCamera c;
-  c.width = 640;
-  c.height = 480;
-  c.fx = c.fy = 500;
-  c.cx = 320;
-  c.cy = 240;
-  auto ctx = std::make_shared<FrameContext>();
-  ctx->init(c, 40.0, 3.0, 8, 1.2f);
-  return ctx;
-}
-
 /// Camera at angle th on the circle, looking radially out, image y down
 /// (world z up).
 mrpt::poses::CPose3D circlePose(double r, double th) {
@@ -40,7 +28,7 @@ mrpt::poses::CPose3D circlePose(double r, double th) {
 
 SyntheticLoop buildSyntheticLoop(Map& map, const SyntheticLoopParams& p) {
   SyntheticLoop s;
-  s.ctx = syntheticContext();
+  s.ctx = idealFrameContext();
   const FrameContext& ctx = *s.ctx;
   std::mt19937 rng(p.seed);
   std::uniform_real_distribution<double> u01(0, 1);

@@ -66,4 +66,16 @@ int FrameContext::predictScale(double dist, double max_dist) const {
   return std::clamp(l, 0, levels - 1);
 }
 
+std::shared_ptr<FrameContext> idealFrameContext() {
+  PinholeCamera c;
+  c.width = 640;
+  c.height = 480;
+  c.fx = c.fy = 500;
+  c.cx = 320;
+  c.cy = 240;
+  auto ctx = std::make_shared<FrameContext>();
+  ctx->init(c, 40.0, 3.0, 8, 1.2f);
+  return ctx;
+}
+
 }  // namespace dynslam

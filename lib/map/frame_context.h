@@ -5,6 +5,7 @@
 // once and shared (read-only) by all frames and keyframes.
 #include <opencv2/core.hpp>
 
+#include <memory>
 #include <vector>
 
 #include "core/camera.h"
@@ -46,5 +47,10 @@ struct FrameContext {
   /// point's maximum scale-invariance distance.
   int predictScale(double dist, double max_dist) const;
 };
+
+/// The camera of the synthetic scenes in tests and benchmarks: an ideal
+/// 640x480 pinhole (f = 500 px, principal point at the centre, no
+/// distortion), bf 40 px*m, close depth 3 m, 8 levels with factor 1.2.
+std::shared_ptr<FrameContext> idealFrameContext();
 
 }  // namespace dynslam

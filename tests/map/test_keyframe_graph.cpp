@@ -12,21 +12,9 @@ using namespace dynslam;
 
 namespace {
 
-std::shared_ptr<FrameContext> idealContext() {
-  PinholeCamera c;
-  c.width = 640;
-  c.height = 480;
-  c.fx = c.fy = 500;
-  c.cx = 320;
-  c.cy = 240;
-  auto ctx = std::make_shared<FrameContext>();
-  ctx->init(c, 40.0, 3.0, 8, 1.2f);
-  return ctx;
-}
-
 /// n keypoints on a line with random descriptors (no depth).
 std::shared_ptr<FeatureSet> features(int n, unsigned seed = 1) {
-  static const auto ctx = idealContext();
+  static const auto ctx = idealFrameContext();
   auto fs = std::make_shared<FeatureSet>();
   fs->ctx = ctx;
   std::mt19937 rng(seed);

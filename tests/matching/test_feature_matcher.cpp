@@ -20,20 +20,6 @@ using mrpt::poses::CPose3D;
 
 namespace {
 
-constexpr double kBf = 40.0;
-
-std::shared_ptr<FrameContext> makeContext() {
-  PinholeCamera c;
-  c.width = 640;
-  c.height = 480;
-  c.fx = c.fy = 500;
-  c.cx = 320;
-  c.cy = 240;
-  auto ctx = std::make_shared<FrameContext>();
-  ctx->init(c, kBf, 3.0, 8, 1.2f);
-  return ctx;
-}
-
 struct View {
   std::shared_ptr<FeatureSet> fs;
   std::vector<int> key_of_point;  ///< scene point -> keypoint index (-1: none)
@@ -41,7 +27,7 @@ struct View {
 };
 
 struct Scene {
-  std::shared_ptr<FrameContext> ctx = makeContext();
+  std::shared_ptr<FrameContext> ctx = idealFrameContext();
   std::vector<Eigen::Vector3d> points;
   cv::Mat point_desc;  ///< one random descriptor per scene point
   CameraPose pose1{CPose3D()};
@@ -103,7 +89,7 @@ struct Scene {
     if (with_depth)
       for (std::size_t k = 0; k < order.size(); ++k) {
         v.fs->depth[k] = z[k];
-        v.fs->ur[k] = static_cast<float>(v.fs->keys_un[k].pt.x - kBf / z[k]);
+        v.fs->ur[k] = static_cast<float>(v.fs->keys_un[k].pt.x - v.fs->ctx->proj.bf / z[k]);
       }
     return v;
   }
