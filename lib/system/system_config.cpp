@@ -101,10 +101,10 @@ SlamConfig loadSlamConfig(const std::string& path) {
       .read("max_motion_fraction", d.max_motion_fraction);
   if (d.detector_interval < 1 || d.mask_margin_px < 0 || d.moving_point_radius_px < 0 ||
       d.max_flow_points < 0 || d.carry_frames < 0 || d.carry_frames > 255 ||
-      d.min_hint_points < 0)
+      d.min_hint_points < 0 || !(d.max_motion_fraction > 0) || d.max_motion_fraction > 1)
     throw InputError(path, "dynamic: detector_interval >= 1, mask_margin_px, "
                            "moving_point_radius_px, max_flow_points, min_hint_points >= 0, "
-                           "0 <= carry_frames <= 255 required");
+                           "0 <= carry_frames <= 255, 0 < max_motion_fraction <= 1 required");
   ConfigSection det = dy.sub("detector");
   std::string model;
   det.read("model", model)

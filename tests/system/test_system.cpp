@@ -254,6 +254,31 @@ TEST(SystemBadInput, ConfigWithWrongType) {
   expectFailure(r, {cfg, "n_features"}, out);
 }
 
+TEST(SystemBadInput, MotionFractionOutOfRange) {
+  TempDir d;
+  for (const std::string v : {"0", "1.5", "-0.2"}) {
+    const std::string cfg = d / "mmf.yaml";
+    writeText(cfg, "dynamic:\n  max_motion_fraction: " + v + "\n");
+    const std::string out = d / "out";
+    const CommandResult r =
+        runDynslam({"run", rpyDir(), "-o", out, "--config", cfg, "--max-frames", "5"});
+    expectFailure(r, {cfg, "max_motion_fraction"}, out);
+  }
+}
+
+// A configured vocabulary that does not exist stops the run before any
+// output, naming the file.
+TEST(SystemBadInput, MissingVocabularyNamesTheFile) {
+  TempDir d;
+  const std::string cfg = d / "voc.yaml";
+  const std::string voc = d / "no_such_vocabulary.bin";
+  writeText(cfg, "loop_closing:\n  vocabulary: " + voc + "\n");
+  const std::string out = d / "out";
+  const CommandResult r =
+      runDynslam({"run", rpyDir(), "-o", out, "--config", cfg, "--max-frames", "5"});
+  expectFailure(r, {voc}, out);
+}
+
 TEST(SystemBadInput, UnknownModeIsAUsageError) {
   TempDir d;
   const std::string out = d / "out";
