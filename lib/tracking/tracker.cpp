@@ -368,13 +368,9 @@ void Tracker::updateLocalMap() {
 }
 
 void Tracker::searchLocalPoints() {
-  for (std::size_t i = 0; i < cur_.points.size(); ++i) {
-    MapPoint* mp = cur_.points[i];
+  // updateLocalMap() has already dropped the matches to bad points.
+  for (MapPoint* mp : cur_.points) {
     if (!mp) continue;
-    if (mp->bad) {
-      cur_.points[i] = nullptr;
-      continue;
-    }
     mp->visible++;
     mp->last_seen_frame = cur_.id;
     mp->track_in_view = false;
