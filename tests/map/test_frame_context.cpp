@@ -19,12 +19,7 @@ namespace {
 PinholeCamera fr1() { return loadCameraYaml(test::sourceDir() + "/configs/tum_fr1.yaml"); }
 
 PinholeCamera ideal() {
-  PinholeCamera c;
-  c.width = 640;
-  c.height = 480;
-  c.fx = c.fy = 500;
-  c.cx = 320;
-  c.cy = 240;
+  PinholeCamera c = idealFrameContext()->camera;
   c.depth_scale = 5000;
   return c;
 }
