@@ -22,7 +22,9 @@ constexpr const char* kDescription =
     "loop-corrected poses) is looked up in the run's input sequence (run_info.yaml 'input:'), "
     "its depth back-projected with the camera model (undistorted), pixels of "
     "dynamic_masks/<t>.png (grown by --mask-margin) left out, and the union reduced with a "
-    "voxel grid and statistical outlier removal. The extension of -o picks the format: .ply "
+    "voxel grid, free-space carving (points that other keyframes see through, such as people "
+    "the dynamic masks missed, are removed; also applied to the sparse map) and statistical "
+    "outlier removal. The extension of -o picks the format: .ply "
     "(binary, coloured points) or .glb (glTF 2.0: points, trajectory, keyframe frustums and "
     "poses). If RUN_DIR/map_points.txt exists, the sparse map is also written as "
     "<MAP>_sparse.ply. A report <MAP>.export.json gives point counts, phase times, peak "
@@ -48,7 +50,8 @@ int exportMain(int argc, char** argv) {
       "", "config",
       "dynslam config YAML; its map_export: section sets the dense map parameters "
       "(min_depth, max_depth, pixel_stride, mask_margin_px, voxel_leaf, remove_outliers, "
-      "outlier_neighbours, outlier_stddev); other sections are ignored",
+      "outlier_neighbours, outlier_stddev, carve_free_space, carve_min_views, carve_ratio, "
+      "carve_margin_m, carve_margin_rel, carve_window_px); other sections are ignored",
       false, "", "YAML", cmd);
   TCLAP::ValueArg<std::string> camera_arg(
       "", "camera", "camera YAML overriding run_info.yaml's camera_config", false, "",
@@ -60,6 +63,10 @@ int exportMain(int argc, char** argv) {
                                   5, "PX", cmd);
   TCLAP::SwitchArg no_outliers_arg("", "no-outlier-removal",
                                    "skip statistical outlier removal (faster)", cmd, false);
+  TCLAP::SwitchArg no_carving_arg("", "no-carving",
+                                  "skip free-space carving (keeps whatever other keyframes see "
+                                  "through, e.g. people missed by the dynamic masks)",
+                                  cmd, false);
   TCLAP::ValueArg<std::string> truth_arg(
       "", "truth-masks",
       "ground-truth people masks folder (<rgb name>.png) to score the map against; default "
@@ -75,6 +82,7 @@ int exportMain(int argc, char** argv) {
   if (stride_arg.isSet()) options.projection.pixel_stride = stride_arg.getValue();
   if (margin_arg.isSet()) options.projection.mask_margin_px = margin_arg.getValue();
   if (no_outliers_arg.getValue()) options.remove_outliers = false;
+  if (no_carving_arg.getValue()) options.carving.enabled = false;
   validateDenseMapOptions(options, "command line");
 
   const RunDirectory run = readRunDirectory(run_arg.getValue());
@@ -89,13 +97,17 @@ int exportMain(int argc, char** argv) {
   eo.frame_timestamps = stamps.size() == source->size() ? &stamps : nullptr;
   if (truth_arg.isSet()) eo.truth_masks_dir = truth_arg.getValue() == "none" ? "" : truth_arg.getValue();
   const ExportResult r = exportRun(run, *source, out_arg.getValue(), options, eo);
-  std::printf("%s: %zu points (%zu back-projected from %zu keyframes, %zu after voxel grid)"
-              " in %.2f s, peak %.0f MB\n",
+  std::printf("%s: %zu points (%zu back-projected from %zu keyframes, %zu after voxel grid, "
+              "%zu carved as free space in %.2f s) in %.2f s, peak %.0f MB\n",
               out_arg.getValue().c_str(), r.points_written, r.stats.backprojected_points,
-              r.stats.keyframes, r.stats.after_voxel, r.seconds, r.peak_rss_mb);
+              r.stats.keyframes, r.stats.after_voxel, r.stats.carved_points,
+              r.stats.carving_seconds, r.seconds, r.peak_rss_mb);
   std::printf("up %.4f,%.4f,%.4f (%s; %.1f deg from the keyframe estimate)\n", r.up.up[0],
               r.up.up[1], r.up.up[2], r.up.source.c_str(), r.up.prior_angle_deg);
-  if (!r.sparse_path.empty()) std::printf("%s: sparse map points\n", r.sparse_path.c_str());
+  if (!r.sparse_path.empty()) {
+    std::printf("%s: %zu sparse map points (%zu carved as free space)\n", r.sparse_path.c_str(),
+                r.sparse_points, r.sparse_carved_points);
+  }
   if (r.dense_truth) {
     std::printf("walker_mask_share %.4f %% (%zu of %zu points), standing-still %.4f %% (%zu)\n",
                 100 * r.dense_truth->walkerShare(), r.dense_truth->walker_points,

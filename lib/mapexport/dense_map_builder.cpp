@@ -8,7 +8,9 @@
 namespace dynslam {
 
 DenseMapBuilder::DenseMapBuilder(const PinholeCamera& camera, DenseMapOptions options)
-    : options_(options), projector_(camera, options.projection) {}
+    : options_(options), projector_(camera, options.projection) {
+  if (options.carving.enabled) carver_ = std::make_unique<FreeSpaceCarver>(projector_, options.carving);
+}
 
 void DenseMapBuilder::addKeyframe(const RGBDFrame& frame,
                                   const mrpt::poses::CPose3D& pose_wc,
@@ -16,19 +18,22 @@ void DenseMapBuilder::addKeyframe(const RGBDFrame& frame,
                                   const cv::Mat& truth_mask) {
   scratch_.clear();
   scratch_pixels_.clear();
+  projector_.checkFrame(frame);
+  const cv::Mat grown_mask = projector_.growMask(dynamic_mask);
   if (truth_mask.empty()) {
-    projector_.backProject(frame, pose_wc, dynamic_mask, scratch_);
+    projector_.backProjectGrown(frame, pose_wc, grown_mask, scratch_);
   } else {
     const PinholeCamera& cam = projector_.camera();
     if (truth_mask.type() != CV_8UC1 || truth_mask.cols != cam.width ||
         truth_mask.rows != cam.height) {
       throw std::invalid_argument("truth mask must be CV_8UC1 of the image size");
     }
-    projector_.backProject(frame, pose_wc, dynamic_mask, scratch_, &scratch_pixels_);
+    projector_.backProjectGrown(frame, pose_wc, grown_mask, scratch_, &scratch_pixels_);
     if (!provenance_) provenance_ = std::make_unique<DenseMaskProvenance>(options_.voxel_leaf);
     provenance_->add(scratch_, scratch_pixels_,
                      truth_mask.isContinuous() ? truth_mask : truth_mask.clone());
   }
+  if (carver_) carver_->addKeyframe(frame.depth, pose_wc, grown_mask);
   stats_.keyframes++;
   stats_.backprojected_points += scratch_.size();
   if (options_.voxel_leaf > 0) {
@@ -56,6 +61,15 @@ ColoredCloud DenseMapBuilder::build() {
                            ? voxelDownsample(accumulated_, options_.voxel_leaf)
                            : accumulated_;
   stats_.after_voxel = cloud.size();
+  stats_.carved_points = 0;
+  stats_.carving_seconds = 0;
+  if (carver_ && carver_->keyframes() > 1) {  // one keyframe can only confirm
+    CarvingStats cs;
+    cloud = carver_->carve(cloud, &cs);
+    stats_.carved_points = cs.removed;
+    stats_.carving_seconds = cs.seconds;
+  }
+  stats_.after_carving = cloud.size();
   if (options_.remove_outliers && cloud.size() > std::size_t(options_.outlier_neighbours)) {
     cloud = removeStatisticalOutliers(cloud, options_.outlier_neighbours,
                                       options_.outlier_stddev);

@@ -5,13 +5,17 @@
 //
 // Memory stays bounded for long runs: every keyframe is voxel-downsampled as
 // it is added and the accumulated cloud is re-voxelised whenever it grows
-// past `compact_threshold` points; build() does the final voxel pass and the
-// statistical outlier removal.
+// past `compact_threshold` points; build() does the final voxel pass,
+// free-space carving (free_space_carver.h: drops what other keyframes see
+// through, i.e. people the dynamic masks missed) and the statistical outlier
+// removal. For carving, each keyframe's depth is kept reduced (~0.46 MB for
+// 640x480), so the images are read only once.
 #include <cstddef>
 #include <memory>
 #include <optional>
 
 #include "mapexport/depth_backprojector.h"
+#include "mapexport/free_space_carver.h"
 #include "mapexport/truth_mask_score.h"
 
 namespace dynslam {
@@ -22,6 +26,8 @@ struct DenseMapOptions {
   bool remove_outliers = true;
   int outlier_neighbours = 10;
   double outlier_stddev = 2.0;
+  /// Free-space carving of the voxelised cloud, before outlier removal.
+  FreeSpaceCarvingOptions carving;
   /// Re-voxelise the accumulated cloud when it exceeds this many points.
   std::size_t compact_threshold = 4'000'000;
 };
@@ -30,6 +36,9 @@ struct DenseMapStats {
   std::size_t keyframes = 0;
   std::size_t backprojected_points = 0;  ///< before any filtering
   std::size_t after_voxel = 0;
+  std::size_t carved_points = 0;  ///< removed by free-space carving
+  std::size_t after_carving = 0;
+  double carving_seconds = 0;
   std::size_t after_outliers = 0;
 };
 
@@ -46,7 +55,7 @@ class DenseMapBuilder {
                    const cv::Mat& dynamic_mask = cv::Mat(),
                    const cv::Mat& truth_mask = cv::Mat());
 
-  /// Final voxel grid and outlier removal. The builder can keep accepting
+  /// Final voxel grid, free-space carving and outlier removal. The builder can keep accepting
   /// keyframes afterwards (build() does not consume the accumulation).
   ColoredCloud build();
 
@@ -55,6 +64,11 @@ class DenseMapBuilder {
   std::optional<MaskShare> truthShare(const ColoredCloud& final_cloud) const;
   /// The recorded provenance (pixel counts); null if no truth mask was given.
   const DenseMaskProvenance* provenance() const { return provenance_.get(); }
+
+  /// The keyframes' depth for free-space carving; null when carving is off.
+  /// Other clouds in the same world frame (the sparse map) can be carved
+  /// with it after the last keyframe.
+  const FreeSpaceCarver* carver() const { return carver_.get(); }
 
   const DenseMapStats& stats() const { return stats_; }
   const DenseMapOptions& options() const { return options_; }
@@ -66,6 +80,7 @@ class DenseMapBuilder {
   ColoredCloud scratch_;
   std::vector<std::uint32_t> scratch_pixels_;
   std::unique_ptr<DenseMaskProvenance> provenance_;
+  std::unique_ptr<FreeSpaceCarver> carver_;
   std::size_t compacted_size_ = 0;
   DenseMapStats stats_;
 };

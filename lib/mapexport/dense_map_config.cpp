@@ -1,5 +1,8 @@
 #include "mapexport/dense_map_config.h"
 
+#include <stdexcept>
+#include <string>
+
 namespace dynslam {
 
 void readDenseMapOptions(ConfigSection s, DenseMapOptions& o) {
@@ -10,7 +13,13 @@ void readDenseMapOptions(ConfigSection s, DenseMapOptions& o) {
       .read("voxel_leaf", o.voxel_leaf)
       .read("remove_outliers", o.remove_outliers)
       .read("outlier_neighbours", o.outlier_neighbours)
-      .read("outlier_stddev", o.outlier_stddev);
+      .read("outlier_stddev", o.outlier_stddev)
+      .read("carve_free_space", o.carving.enabled)
+      .read("carve_min_views", o.carving.min_views)
+      .read("carve_ratio", o.carving.ratio)
+      .read("carve_margin_m", o.carving.margin_m)
+      .read("carve_margin_rel", o.carving.margin_rel)
+      .read("carve_window_px", o.carving.window_px);
   s.rejectUnknownKeys();
   validateDenseMapOptions(o, s.file());
 }
@@ -38,6 +47,13 @@ void validateDenseMapOptions(const DenseMapOptions& o, const std::string& source
     throw InputError(source, "map_export: outlier_neighbours must be >= 1");
   }
   if (!(o.outlier_stddev > 0)) throw InputError(source, "map_export: outlier_stddev must be > 0");
+  // Checked even when carving is off, so a bad value never waits for the
+  // day it is switched on.
+  try {
+    checkCarvingOptions(o.carving);
+  } catch (const std::invalid_argument& e) {
+    throw InputError(source, std::string("map_export: ") + e.what());
+  }
 }
 
 }  // namespace dynslam

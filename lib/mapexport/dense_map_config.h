@@ -10,6 +10,12 @@
 //     remove_outliers: true
 //     outlier_neighbours: 10
 //     outlier_stddev: 2.0
+//     carve_free_space: true  # free-space carving (free_space_carver.h)
+//     carve_min_views: 2      # seen-through votes needed to remove a point
+//     carve_ratio: 1.0        # ... and more than ratio x the confirmations
+//     carve_margin_m: 0.10    # m; depth margin, at least ...
+//     carve_margin_rel: 0.05  # ... this share of the point's depth
+//     carve_window_px: 5      # odd; minimum-depth window for seen-through
 #include <string>
 
 #include "core/config_reader.h"

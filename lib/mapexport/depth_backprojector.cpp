@@ -3,6 +3,7 @@
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include <algorithm>
 #include <stdexcept>
 
 #include "core/errors.h"
@@ -40,6 +41,26 @@ DepthBackProjector::DepthBackProjector(const PinholeCamera& camera,
   }
   rays_ = cv::Mat(camera.height, camera.width, CV_32FC2);
   std::copy(normalised.begin(), normalised.end(), rays_.begin<cv::Point2f>());
+  bounds_ = {normalised[0].x, normalised[0].x, normalised[0].y, normalised[0].y};
+  for (const auto& n : normalised) {
+    bounds_.x_min = std::min(bounds_.x_min, n.x);
+    bounds_.x_max = std::max(bounds_.x_max, n.x);
+    bounds_.y_min = std::min(bounds_.y_min, n.y);
+    bounds_.y_max = std::max(bounds_.y_max, n.y);
+  }
+}
+
+cv::Mat DepthBackProjector::growMask(const cv::Mat& dynamic_mask) const {
+  if (dynamic_mask.empty()) return cv::Mat();
+  if (dynamic_mask.type() != CV_8UC1 ||
+      dynamic_mask.size() != cv::Size(camera_.width, camera_.height)) {
+    throw std::invalid_argument("dynamic mask must be CV_8UC1 of the image size");
+  }
+  if (options_.mask_margin_px <= 0) return dynamic_mask;
+  const int k = 2 * options_.mask_margin_px + 1;
+  cv::Mat mask;
+  cv::dilate(dynamic_mask, mask, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(k, k)));
+  return mask;
 }
 
 void DepthBackProjector::backProject(const RGBDFrame& frame,
@@ -47,6 +68,11 @@ void DepthBackProjector::backProject(const RGBDFrame& frame,
                                      const cv::Mat& dynamic_mask,
                                      ColoredCloud& out,
                                      std::vector<std::uint32_t>* pixel_indices) const {
+  checkFrame(frame);  // image errors name the file, before any mask error
+  backProjectGrown(frame, pose_wc, growMask(dynamic_mask), out, pixel_indices);
+}
+
+void DepthBackProjector::checkFrame(const RGBDFrame& frame) const {
   const cv::Size size(camera_.width, camera_.height);
   if (frame.depth.type() != CV_16UC1 || frame.depth.size() != size) {
     throw InputError(frame.depth_source.empty() ? "depth image" : frame.depth_source,
@@ -56,18 +82,16 @@ void DepthBackProjector::backProject(const RGBDFrame& frame,
     throw InputError(frame.rgb_source.empty() ? "rgb image" : frame.rgb_source,
                      "expected 8-bit BGR image of the camera size");
   }
-  cv::Mat mask;
-  if (!dynamic_mask.empty()) {
-    if (dynamic_mask.type() != CV_8UC1 || dynamic_mask.size() != size) {
-      throw std::invalid_argument("dynamic mask must be CV_8UC1 of the image size");
-    }
-    if (options_.mask_margin_px > 0) {
-      const int k = 2 * options_.mask_margin_px + 1;
-      cv::dilate(dynamic_mask, mask,
-                 cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(k, k)));
-    } else {
-      mask = dynamic_mask;
-    }
+}
+
+void DepthBackProjector::backProjectGrown(const RGBDFrame& frame,
+                                          const mrpt::poses::CPose3D& pose_wc,
+                                          const cv::Mat& mask, ColoredCloud& out,
+                                          std::vector<std::uint32_t>* pixel_indices) const {
+  checkFrame(frame);
+  const cv::Size size(camera_.width, camera_.height);
+  if (!mask.empty() && (mask.type() != CV_8UC1 || mask.size() != size)) {
+    throw std::invalid_argument("dynamic mask must be CV_8UC1 of the image size");
   }
 
   const auto& R = pose_wc.getRotationMatrix();

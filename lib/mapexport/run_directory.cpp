@@ -99,10 +99,13 @@ void writeReport(const std::string& path, const RunDirectory& run, const FrameSo
       .value("keyframes", r.stats.keyframes)
       .value("backprojected_points", r.stats.backprojected_points)
       .value("after_voxel", r.stats.after_voxel)
+      .value("carved_points", r.stats.carved_points)
+      .value("after_carving", r.stats.after_carving)
       .value("after_outliers", r.stats.after_outliers)
       .value("points_written", r.points_written)
       .value("sparse_output", r.sparse_path)
       .value("sparse_points", r.sparse_points)
+      .value("sparse_carved_points", r.sparse_carved_points)
       .value("seconds", r.seconds);
   j.beginObject("phase_seconds");
   for (const auto& [name, sec] : phases) j.value(name, sec);
@@ -117,6 +120,12 @@ void writeReport(const std::string& path, const RunDirectory& run, const FrameSo
       .value("remove_outliers", o.remove_outliers)
       .value("outlier_neighbours", o.outlier_neighbours)
       .value("outlier_stddev", o.outlier_stddev)
+      .value("carve_free_space", o.carving.enabled)
+      .value("carve_min_views", o.carving.min_views)
+      .value("carve_ratio", o.carving.ratio)
+      .value("carve_margin_m", o.carving.margin_m)
+      .value("carve_margin_rel", o.carving.margin_rel)
+      .value("carve_window_px", o.carving.window_px)
       .endObject();
   j.beginObject("up")
       .value("source", r.up.source)
@@ -250,9 +259,24 @@ ExportResult exportRun(const RunDirectory& run, const FrameSource& source,
   MapData map;
   map.points = builder.build();
   map.keyframes = run.keyframes;
-  phases["voxel_and_outliers"] = since(t_phase);
-
+  phases["voxel_and_outliers"] = since(t_phase) - builder.stats().carving_seconds;
+  phases["free_space_carving"] = builder.stats().carving_seconds;
+  // The sparse map gets the same carving as the dense one (people's points
+  // that the dynamic filter let into the SLAM map).
+  std::vector<std::uint8_t> sparse_keep;
   ExportResult result;
+  if (sparse && builder.carver() && builder.carver()->keyframes() > 1) {
+    t_phase = Clock::now();
+    sparse_keep = builder.carver()->keepFlags(*sparse);
+    ColoredCloud kept;
+    for (std::size_t i = 0; i < sparse->size(); ++i) {
+      if (sparse_keep[i]) kept.push_back((*sparse)[i]);
+    }
+    result.sparse_carved_points = sparse->size() - kept.size();
+    *sparse = std::move(kept);
+    phases["free_space_carving"] += since(t_phase);
+  }
+
   t_phase = Clock::now();
   result.up = estimateMapUp(map);
   phases["up_estimate"] = since(t_phase);
@@ -275,7 +299,7 @@ ExportResult exportRun(const RunDirectory& run, const FrameSource& source,
     result.truth_masks_dir = truth_dir;
     result.dense_truth = builder.truthShare(map.points);
     if (!result.dense_truth) result.dense_truth = MaskShare{map.points.size(), 0, 0};
-    if (sparse_scorer) result.sparse_truth = sparse_scorer->score();
+    if (sparse_scorer) result.sparse_truth = sparse_scorer->score(sparse_keep);
     phases["truth_score"] = since(t_phase);
   }
   result.seconds = since(t_start);

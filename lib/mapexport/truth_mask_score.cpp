@@ -9,6 +9,7 @@
 
 #include "core/atomic_file.h"
 #include "core/errors.h"
+#include "mapexport/depth_backprojector.h"
 
 namespace dynslam {
 
@@ -129,27 +130,18 @@ void SparseMaskScorer::addKeyframe(const cv::Mat& depth, const mrpt::poses::CPos
   // p_c = R^T (p_w - t)
   const auto& R = pose_wc.getRotationMatrix();
   const double tx = pose_wc.x(), ty = pose_wc.y(), tz = pose_wc.z();
-  const auto& d = camera_.dist;
-  const bool distort = camera_.hasDistortion();
+  const PixelProjector projector(camera_);
   for (std::size_t i = 0; i < points_.size(); ++i) {
     const auto& p = points_[i];
     const double wx = p.x - tx, wy = p.y - ty, wz = p.z - tz;
     const double x = R(0, 0) * wx + R(1, 0) * wy + R(2, 0) * wz;
     const double y = R(0, 1) * wx + R(1, 1) * wy + R(2, 1) * wz;
     const double z = R(0, 2) * wx + R(1, 2) * wy + R(2, 2) * wz;
-    if (z <= 1e-6) continue;
-    double xn = x / z, yn = y / z;
-    if (distort) {  // Brown-Conrady, OpenCV order k1 k2 p1 p2 k3
-      const double r2 = xn * xn + yn * yn;
-      const double radial = 1 + r2 * (d[0] + r2 * (d[1] + r2 * d[4]));
-      const double xd = xn * radial + 2 * d[2] * xn * yn + d[3] * (r2 + 2 * xn * xn);
-      const double yd = yn * radial + d[2] * (r2 + 2 * yn * yn) + 2 * d[3] * xn * yn;
-      xn = xd;
-      yn = yd;
-    }
+    double uf, vf;
+    if (!projector.project(x, y, z, uf, vf)) continue;
     // Pixel centres are at integer coordinates (as in the back-projection).
-    const long u = std::lround(camera_.fx * xn + camera_.cx);
-    const long v = std::lround(camera_.fy * yn + camera_.cy);
+    const long u = std::lround(uf);
+    const long v = std::lround(vf);
     if (u < 0 || v < 0 || u >= camera_.width || v >= camera_.height) continue;
     const std::uint16_t raw = depth.at<std::uint16_t>(int(v), int(u));
     if (raw == 0) continue;
@@ -170,9 +162,14 @@ void SparseMaskScorer::addKeyframe(const cv::Mat& depth, const mrpt::poses::CPos
   }
 }
 
-SparseMaskShare SparseMaskScorer::score() const {
+SparseMaskShare SparseMaskScorer::score(const std::vector<std::uint8_t>& keep) const {
+  if (!keep.empty() && keep.size() != votes_.size()) {
+    throw std::invalid_argument("SparseMaskScorer::score: one keep flag per point expected");
+  }
   SparseMaskShare s;
-  for (const auto& v : votes_) {
+  for (std::size_t i = 0; i < votes_.size(); ++i) {
+    if (!keep.empty() && !keep[i]) continue;
+    const auto& v = votes_[i];
     if (v.stat + v.walker + v.standing == 0) {
       ++s.unobserved_points;
       continue;

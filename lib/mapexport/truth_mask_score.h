@@ -108,7 +108,11 @@ class SparseMaskScorer {
   void addKeyframe(const cv::Mat& depth, const mrpt::poses::CPose3D& pose_wc,
                    const cv::Mat& truth);
 
-  SparseMaskShare score() const;
+  /// keep: empty, or one flag per point (non-zero = still in the map), to
+  /// score a map from which points were removed afterwards (free-space
+  /// carving); removed points count nowhere. Throws std::invalid_argument
+  /// on a size mismatch.
+  SparseMaskShare score(const std::vector<std::uint8_t>& keep = {}) const;
   std::size_t size() const { return points_.size(); }
 
  private:

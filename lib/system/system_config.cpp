@@ -180,6 +180,7 @@ SlamConfig loadSlamConfig(const std::string& path) {
                                     : (std::filesystem::path(path).parent_path() / vp).string();
   l.global_ba_params = c.mapper.ba;
 
+  root.sub("map_export");  // read by `dynslam export` (lib/mapexport/dense_map_config)
   root.rejectUnknownKeys();
   return c;
 }
