@@ -172,120 +172,159 @@ void DynamicFeatureFilter::process(const RGBDFrame& frame, const cv::Mat& gray,
   }
   double ms_boxes = msSince(t0);
 
-  // Motion check on the tracks, seeded also by the points carried as dynamic.
-  MotionResult r;
-  std::vector<cv::Point2f> carried;
-  std::vector<uint8_t> carried_age;
-  if (p_.use_flow && have_flow) {
-    r = motion_.classify(prev_points_, cur_points, tracked, prev_.depth, cur.depth, camera_,
-                         boxes_now_, gray.size(), &prev_age_);
-    cv::Mat motion_mask = r.mask;
-    if (!r.geometry.reliable && unreliable_run_ < p_.carry_frames && !prev_motion_mask_.empty()) {
-      // Blurred frame: no verdicts, so move the last motion mask along with
-      // the median flow of the carried points (of all points if none).
-      std::vector<float> dx, dy, gx, gy;
-      for (std::size_t i = 0; i < tracked.size(); ++i) {
-        if (!tracked[i]) continue;
-        auto& x = prev_age_[i] ? dx : gx;
-        auto& y = prev_age_[i] ? dy : gy;
-        x.push_back(cur_points[i].x - prev_points_[i].x);
-        y.push_back(cur_points[i].y - prev_points_[i].y);
-      }
-      if (dx.size() < 3) dx.swap(gx), dy.swap(gy);
-      if (!dx.empty()) {
-        std::nth_element(dx.begin(), dx.begin() + dx.size() / 2, dx.end());
-        std::nth_element(dy.begin(), dy.begin() + dy.size() / 2, dy.end());
-        const cv::Matx23f shift(1, 0, dx[dx.size() / 2], 0, 1, dy[dy.size() / 2]);
-        cv::warpAffine(prev_motion_mask_, motion_mask, shift, prev_motion_mask_.size(),
-                       cv::INTER_NEAREST);
-      }
-      ++unreliable_run_;
-    } else if (r.geometry.reliable) {
-      unreliable_run_ = 0;
-    }
-    prev_motion_mask_ = motion_mask;
-    if (!motion_mask.empty()) mask_ |= motion_mask;
-    if (!debug_dir_.empty()) debug_region_ = motion_mask.clone();
-    for (std::size_t i = 0; i < r.dynamic.size(); ++i) {
-      if (!tracked[i]) continue;
-      if (!r.dynamic[i] && !prev_age_[i]) continue;
-      if (p_.moving_point_radius_px > 0)
-        cv::circle(mask_, cur_points[i], p_.moving_point_radius_px, cv::Scalar(255), cv::FILLED);
-      // Carried on only inside a region that passed the vote: an isolated
-      // outlier carried for 3 frames would triple the outlier rate the vote
-      // has to beat. Moving now: carry_frames; carried before: one less.
-      const cv::Point q(cvRound(cur_points[i].x), cvRound(cur_points[i].y));
-      const bool in_region = !motion_mask.empty() && q.x >= 0 && q.y >= 0 &&
-                             q.x < motion_mask.cols && q.y < motion_mask.rows &&
-                             motion_mask.at<uint8_t>(q);
-      const int age = r.dynamic[i] ? p_.carry_frames : int(prev_age_[i]) - 1;
-      if (in_region && age > 0) {
-        carried.push_back(cur_points[i]);
-        carried_age.push_back(uint8_t(std::min(age, 255)));
-      }
-    }
-  }
-  // Box depth masks, at the depth of the moving points inside each box where
-  // there are enough of them (the histogram's nearest peak may be an occluder).
+  // Motion evidence, then the box masks (their depth comes from the moving
+  // points), then the keypoints on either.
+  MotionEvidence ev;
+  const bool motion = p_.use_flow && have_flow;
+  if (motion) ev = motionEvidence(cur, cur_points, tracked, gray.size());
+  times_["geometry"].push_back(ev.r.ms_geometry);
+  times_["regions"].push_back(ev.r.ms_mask);
   t0 = cv::getTickCount();
-  cv::Mat box_mask;
-  if (!boxes_now_.empty()) {
-    std::vector<float> hints(boxes_now_.size(), 0.f);
-    for (std::size_t b = 0; b < boxes_now_.size(); ++b) {
-      std::vector<float> z;
-      for (const auto& q : carried) {
-        if (!boxes_now_[b].box.contains(q)) continue;
-        const int u = cvRound(q.x), v = cvRound(q.y);
-        if (u < 0 || v < 0 || u >= frame.depth.cols || v >= frame.depth.rows) continue;
-        if (const uint16_t d = frame.depth.at<uint16_t>(v, u)) z.push_back(float(d / camera_.depth_scale));
-      }
-      if (p_.min_hint_points > 0 && int(z.size()) >= p_.min_hint_points) {
-        std::nth_element(z.begin(), z.begin() + z.size() / 2, z.end());
-        hints[b] = z[z.size() / 2];
-      }
-    }
-    const cv::Mat bm =
-        box_masker_.computeFromBoxes(frame.depth, camera_.depth_scale, boxes_now_, nullptr, &hints);
-    mask_ |= bm;
-    box_mask = bm;
-    if (!debug_dir_.empty()) debug_box_ = bm;
-  }
+  cv::Mat box_mask = boxMask(frame, ev.carried);
   times_["boxes"].push_back(ms_boxes + msSince(t0));
-  times_["geometry"].push_back(r.ms_geometry);
-  times_["regions"].push_back(r.ms_mask);
+  std::size_t flagged = flagEvidence(ev, box_mask, keypoints, dynamic);
+  if (!debug_dir_.empty())
+    std::fprintf(stderr, "DYNDBG %ld kp %zu flagged %zu boxes %zu reliable %d fit %d inl %d/%d carried %zu\n", frame_,
+                 keypoints.size(), flagged, boxes_now_.size(), int(ev.r.geometry.reliable), ev.r.geometry.fit_points,
+                 ev.r.geometry.pose_inliers, ev.r.geometry.pose_candidates, ev.carried.size());
+  const double budget = p_.max_motion_fraction * double(keypoints.size());
+  if (p_.max_motion_fraction < 1.0 && double(flagged) > budget) {
+    // Motion evidence covering most of the image is a failed camera-motion
+    // fit (blur, a mover filling the view), not most of the scene moving:
+    // the last accepted regions, moved along, stand in for it (the movers
+    // are still there) for up to carry_frames frames, as long as they do
+    // not cover most of the image themselves. Failing that, only the
+    // detector's boxes count and nothing is carried forward, or tracking is
+    // starved of the static points it needs.
+    ++dropped_frames_;
+    const bool can_carry = motion && p_.carry_last_regions && !ev.warped &&
+                           unreliable_run_ < p_.carry_frames && !prev_motion_mask_.empty();
+    MotionEvidence stand_in;
+    if (can_carry) {
+      stand_in.mask = warpedMotionMask(cur_points, tracked);
+      stand_in.warped = true;
+      flagged = flagEvidence(stand_in, box_mask, keypoints, dynamic);
+    }
+    if (!can_carry || double(flagged) > budget) {
+      stand_in = MotionEvidence{};
+      flagged = flagEvidence(stand_in, box_mask, keypoints, dynamic);
+    }
+    ev = std::move(stand_in);
+  }
+  if (ev.warped)
+    ++unreliable_run_;
+  else if (ev.r.geometry.reliable)
+    unreliable_run_ = 0;
+  prev_motion_mask_ = ev.mask;
 
   if (!debug_dir_.empty()) {
     // Diagnostics: B = box mask, G = grown regions, R = everything before dilation.
-    cv::Mat planes[3] = {debug_box_.empty() ? cv::Mat::zeros(mask_.size(), CV_8U) : debug_box_,
-                         debug_region_.empty() ? cv::Mat::zeros(mask_.size(), CV_8U) : debug_region_,
-                         mask_};
+    cv::Mat planes[3] = {box_mask.empty() ? cv::Mat::zeros(mask_.size(), CV_8U) : box_mask.clone(),
+                         ev.mask.empty() ? cv::Mat::zeros(mask_.size(), CV_8U) : ev.mask,
+                         undilated_};
     for (const auto& b : boxes_now_) cv::rectangle(planes[0], cv::Rect(b.box), cv::Scalar(128), 2);
     cv::Mat bgr;
     cv::merge(planes, 3, bgr);
     char name[32];
     std::snprintf(name, sizeof name, "/%06ld.png", frame_);
     cv::imwrite(debug_dir_ + name, bgr);
-    debug_box_.release();
-    debug_region_.release();
-  }
-  std::size_t flagged = flagKeypoints(keypoints, dynamic);
-  if (p_.max_motion_fraction < 1.0 && flagged > p_.max_motion_fraction * keypoints.size()) {
-    // Motion evidence covering most of the image is a failed camera-motion
-    // fit (blur, a mover filling the view), not most of the scene moving:
-    // trust only the detector's boxes this frame and carry nothing forward,
-    // or tracking is starved of the static points it needs.
-    mask_ = box_mask.empty() ? cv::Mat::zeros(gray.size(), CV_8UC1) : box_mask.clone();
-    std::fill(dynamic.begin(), dynamic.end(), 0);
-    flagKeypoints(keypoints, dynamic);
-    carried.clear();
-    carried_age.clear();
   }
   if (need_lk) {
-    selectFlowPoints(keypoints, carried, carried_age);
+    selectFlowPoints(keypoints, ev.carried, ev.carried_age);
     prev_ = std::move(cur);
     have_prev_ = true;
   }
   times_["total"].push_back(msSince(t_all));
+}
+
+cv::Mat DynamicFeatureFilter::warpedMotionMask(const std::vector<cv::Point2f>& cur_points,
+                                               const std::vector<uint8_t>& tracked) const {
+  // The median flow of the carried points (of all points if too few).
+  std::vector<float> dx, dy, gx, gy;
+  for (std::size_t i = 0; i < tracked.size(); ++i) {
+    if (!tracked[i]) continue;
+    auto& x = prev_age_[i] ? dx : gx;
+    auto& y = prev_age_[i] ? dy : gy;
+    x.push_back(cur_points[i].x - prev_points_[i].x);
+    y.push_back(cur_points[i].y - prev_points_[i].y);
+  }
+  if (dx.size() < 3) dx.swap(gx), dy.swap(gy);
+  if (dx.empty()) return prev_motion_mask_;
+  std::nth_element(dx.begin(), dx.begin() + dx.size() / 2, dx.end());
+  std::nth_element(dy.begin(), dy.begin() + dy.size() / 2, dy.end());
+  const cv::Matx23f shift(1, 0, dx[dx.size() / 2], 0, 1, dy[dy.size() / 2]);
+  cv::Mat out;
+  cv::warpAffine(prev_motion_mask_, out, shift, prev_motion_mask_.size(), cv::INTER_NEAREST);
+  return out;
+}
+
+DynamicFeatureFilter::MotionEvidence DynamicFeatureFilter::motionEvidence(
+    const MotionFrame& cur, const std::vector<cv::Point2f>& cur_points,
+    const std::vector<uint8_t>& tracked, cv::Size size) {
+  MotionEvidence ev;
+  ev.r = motion_.classify(prev_points_, cur_points, tracked, prev_.depth, cur.depth, camera_,
+                          boxes_now_, size, &prev_age_);
+  const MotionResult& r = ev.r;
+  ev.mask = r.mask;
+  if (!r.geometry.reliable && unreliable_run_ < p_.carry_frames && !prev_motion_mask_.empty()) {
+    // Blurred frame: no verdicts, so move the last motion mask along.
+    ev.mask = warpedMotionMask(cur_points, tracked);
+    ev.warped = true;
+  }
+  for (std::size_t i = 0; i < r.dynamic.size(); ++i) {
+    if (!tracked[i]) continue;
+    const uint8_t age_before = prev_age_[i];
+    if (!r.dynamic[i] && !age_before) continue;
+    ev.moving.push_back(cur_points[i]);
+    // Carried on only inside a region that passed the vote: an isolated
+    // outlier carried for 3 frames would triple the outlier rate the vote
+    // has to beat. Moving now: carry_frames; carried before: one less.
+    const cv::Point q(cvRound(cur_points[i].x), cvRound(cur_points[i].y));
+    const bool in_region = !ev.mask.empty() && q.x >= 0 && q.y >= 0 && q.x < ev.mask.cols &&
+                           q.y < ev.mask.rows && ev.mask.at<uint8_t>(q);
+    const int age = r.dynamic[i] ? p_.carry_frames : int(age_before) - 1;
+    if (in_region && age > 0) {
+      ev.carried.push_back(cur_points[i]);
+      ev.carried_age.push_back(uint8_t(std::min(age, 255)));
+    }
+  }
+  return ev;
+}
+
+cv::Mat DynamicFeatureFilter::boxMask(const RGBDFrame& frame,
+                                      const std::vector<cv::Point2f>& carried) {
+  if (boxes_now_.empty()) return {};
+  // Box depth masks, at the depth of the moving points inside each box where
+  // there are enough of them (the histogram's nearest peak may be an occluder).
+  std::vector<float> hints(boxes_now_.size(), 0.f);
+  for (std::size_t b = 0; b < boxes_now_.size(); ++b) {
+    std::vector<float> z;
+    for (const auto& q : carried) {
+      if (!boxes_now_[b].box.contains(q)) continue;
+      const int u = cvRound(q.x), v = cvRound(q.y);
+      if (u < 0 || v < 0 || u >= frame.depth.cols || v >= frame.depth.rows) continue;
+      if (const uint16_t d = frame.depth.at<uint16_t>(v, u)) z.push_back(float(d / camera_.depth_scale));
+    }
+    if (p_.min_hint_points > 0 && int(z.size()) >= p_.min_hint_points) {
+      std::nth_element(z.begin(), z.begin() + z.size() / 2, z.end());
+      hints[b] = z[z.size() / 2];
+    }
+  }
+  return box_masker_.computeFromBoxes(frame.depth, camera_.depth_scale, boxes_now_, nullptr,
+                                      &hints);
+}
+
+std::size_t DynamicFeatureFilter::flagEvidence(const MotionEvidence& ev, const cv::Mat& box_mask,
+                                               const std::vector<cv::KeyPoint>& keypoints,
+                                               std::vector<uint8_t>& dynamic) {
+  mask_ = ev.mask.empty() ? cv::Mat::zeros(mask_.size(), CV_8UC1) : ev.mask.clone();
+  if (p_.moving_point_radius_px > 0)
+    for (const auto& q : ev.moving)
+      cv::circle(mask_, q, p_.moving_point_radius_px, cv::Scalar(255), cv::FILLED);
+  if (!box_mask.empty()) mask_ |= box_mask;
+  if (!debug_dir_.empty()) undilated_ = mask_.clone();
+  std::fill(dynamic.begin(), dynamic.end(), 0);
+  return flagKeypoints(keypoints, dynamic);
 }
 
 std::size_t DynamicFeatureFilter::flagKeypoints(const std::vector<cv::KeyPoint>& keypoints,

@@ -69,6 +69,9 @@ struct DynamicFilterParams {
   /// motion evidence is dropped for that frame (detector boxes only): a
   /// camera-motion fit that fails on blur flags the static scene.
   double max_motion_fraction = 0.7;
+  /// In such a frame, first try the last accepted motion regions moved by
+  /// the flow instead (at most carry_frames frames in a row).
+  bool carry_last_regions = true;
   YoloDetectorParams detector;
   BoxDepthParams box_mask;
   BoxCarrierParams carrier;
@@ -91,11 +94,34 @@ class DynamicFeatureFilter : public ObservationPreprocessor {
   /// Detector boxes (carried to the frame) used for the last processed frame.
   const std::vector<Detection>& lastBoxes() const { return boxes_now_; }
   std::size_t detectorRuns() const;
+  /// Frames whose motion evidence was dropped (max_motion_fraction).
+  std::size_t droppedMotionFrames() const { return dropped_frames_; }
   /// Per-stage times (ms), one sample per processed frame: pyramid, lk,
   /// boxes (carrying + box depth mask), geometry, regions, total.
   const std::map<std::string, std::vector<double>>& stageTimes() const { return times_; }
 
  private:
+  /// One frame's motion evidence: the grown (or carried-forward) regions,
+  /// the tracked points that moved or were carried, those carried on.
+  struct MotionEvidence {
+    MotionResult r;
+    cv::Mat mask;  ///< regions; empty = none
+    bool warped = false;  ///< mask is the previous frame's, moved (unreliable fit)
+    std::vector<cv::Point2f> moving;
+    std::vector<cv::Point2f> carried;
+    std::vector<uint8_t> carried_age;
+  };
+  MotionEvidence motionEvidence(const MotionFrame& cur, const std::vector<cv::Point2f>& cur_points,
+                                const std::vector<uint8_t>& tracked, cv::Size size);
+  /// prev_motion_mask_ moved by the median flow of the carried points.
+  cv::Mat warpedMotionMask(const std::vector<cv::Point2f>& cur_points,
+                           const std::vector<uint8_t>& tracked) const;
+  /// Depth masks of the boxes of this frame (empty without boxes).
+  cv::Mat boxMask(const RGBDFrame& frame, const std::vector<cv::Point2f>& carried);
+  /// mask_ = regions + discs around moving points + boxes; flags (from zero)
+  /// the keypoints on it; returns how many.
+  std::size_t flagEvidence(const MotionEvidence& ev, const cv::Mat& box_mask,
+                           const std::vector<cv::KeyPoint>& keypoints, std::vector<uint8_t>& dynamic);
   /// Dilates mask_ by the margin and flags the keypoints on it; returns how many.
   std::size_t flagKeypoints(const std::vector<cv::KeyPoint>& keypoints, std::vector<uint8_t>& dynamic);
   void submitToDetector(const cv::Mat& bgr, long frame);
@@ -125,7 +151,8 @@ class DynamicFeatureFilter : public ObservationPreprocessor {
   std::map<std::string, std::vector<double>> times_;
   // $DYNSLAM_DEBUG_DYNAMIC_DIR: per-frame PNG of the mask's parts (diagnostics).
   std::string debug_dir_;
-  cv::Mat debug_box_, debug_region_;
+  cv::Mat undilated_;
+  std::size_t dropped_frames_ = 0;
 
   // Asynchronous detector: newest frame in, latest boxes (with their frame) out.
   mutable std::mutex m_;

@@ -110,7 +110,7 @@ struct MotionCheckParams {
   bool grow_within_boxes = true;
   /// A grown region is dynamic when at least this share of the tracked
   /// points inside it (and grow.min_seeds of them) failed the tests.
-  float region_min_dynamic_ratio = 0.3f;
+  float region_min_dynamic_ratio = 0.4f;
   /// true: tracked points inside a dynamic region are flagged too (fills in
   /// the points of a person the tests missed). Flags are never cleared by the
   /// vote: people touching furniture share a depth region with it, and the

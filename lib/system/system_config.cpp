@@ -98,7 +98,8 @@ SlamConfig loadSlamConfig(const std::string& path) {
       .read("carry_boxes", d.carry_boxes)
       .read("carry_frames", d.carry_frames)
       .read("min_hint_points", d.min_hint_points)
-      .read("max_motion_fraction", d.max_motion_fraction);
+      .read("max_motion_fraction", d.max_motion_fraction)
+      .read("carry_last_regions", d.carry_last_regions);
   if (d.detector_interval < 1 || d.mask_margin_px < 0 || d.moving_point_radius_px < 0 ||
       d.max_flow_points < 0 || d.carry_frames < 0 || d.carry_frames > 255 ||
       d.min_hint_points < 0 || !(d.max_motion_fraction > 0) || d.max_motion_fraction > 1)
@@ -143,6 +144,7 @@ SlamConfig loadSlamConfig(const std::string& path) {
       .read("lk_max_level", mc.lk_max_level)
       .read("lk_downsample", mc.lk_downsample)
       .read("fundamental_with_pose", mc.fundamental_with_pose)
+      .read("reliable_inlier_ratio", mc.reliable_inlier_ratio)
       .read("region_min_dynamic_ratio", mc.region_min_dynamic_ratio)
       .read("mask_downsample", mc.mask_downsample)
       .read("max_seed_distance_px", mc.max_seed_distance_px);
@@ -154,9 +156,10 @@ SlamConfig loadSlamConfig(const std::string& path) {
   mo.rejectUnknownKeys();
   if (mc.lk_downsample != 1 && mc.lk_downsample != 2)
     throw InputError(path, "dynamic.motion_check.lk_downsample must be 1 or 2");
-  if (mc.lk_window < 3 || mc.lk_max_level < 0 || mc.mask_downsample < 1)
+  if (mc.lk_window < 3 || mc.lk_max_level < 0 || mc.mask_downsample < 1 ||
+      !(mc.reliable_inlier_ratio >= 0) || mc.reliable_inlier_ratio > 1)
     throw InputError(path, "dynamic.motion_check: lk_window >= 3, lk_max_level >= 0, "
-                           "mask_downsample >= 1 required");
+                           "mask_downsample >= 1, 0 <= reliable_inlier_ratio <= 1 required");
   dy.rejectUnknownKeys();
 
   loop::LoopClosingParams& l = c.loop;
