@@ -183,10 +183,15 @@ void DynamicFeatureFilter::process(const RGBDFrame& frame, const cv::Mat& gray,
   cv::Mat box_mask = boxMask(frame, ev.carried);
   times_["boxes"].push_back(ms_boxes + msSince(t0));
   std::size_t flagged = flagEvidence(ev, box_mask, keypoints, dynamic);
-  if (!debug_dir_.empty())
-    std::fprintf(stderr, "DYNDBG %ld kp %zu flagged %zu boxes %zu reliable %d fit %d inl %d/%d carried %zu\n", frame_,
-                 keypoints.size(), flagged, boxes_now_.size(), int(ev.r.geometry.reliable), ev.r.geometry.fit_points,
-                 ev.r.geometry.pose_inliers, ev.r.geometry.pose_candidates, ev.carried.size());
+  if (!debug_dir_.empty()) {
+    const GeometryResult& g = ev.r.geometry;
+    std::fprintf(stderr,
+                 "[dynamic] frame %ld: %zu keypoints, %zu flagged, %zu boxes, fit %s on %d points "
+                 "(%d of %d pose inliers), %zu carried\n",
+                 frame_, keypoints.size(), flagged, boxes_now_.size(),
+                 g.reliable ? "reliable" : "unreliable", g.fit_points, g.pose_inliers,
+                 g.pose_candidates, ev.carried.size());
+  }
   const double budget = p_.max_motion_fraction * double(keypoints.size());
   if (p_.max_motion_fraction < 1.0 && double(flagged) > budget) {
     // Motion evidence covering most of the image is a failed camera-motion

@@ -19,7 +19,7 @@
 // box carrying reuses those tracks. Per-stage times: stageTimes(), printed at
 // exit when DYNSLAM_DEBUG_DYNAMIC is set. DYNSLAM_DEBUG_DYNAMIC_DIR=DIR writes
 // each frame's mask parts to DIR/<frame>.png (blue: boxes, green: grown
-// regions, red: all before the margin dilation).
+// regions, red: all before the margin dilation) and prints one line per frame.
 #include <condition_variable>
 #include <map>
 #include <memory>

@@ -266,6 +266,18 @@ TEST(SystemBadInput, MotionFractionOutOfRange) {
   }
 }
 
+TEST(SystemBadInput, ReliableInlierRatioOutOfRange) {
+  TempDir d;
+  for (const std::string v : {"-0.1", "1.2"}) {
+    const std::string cfg = d / "rir.yaml";
+    writeText(cfg, "dynamic:\n  motion_check:\n    reliable_inlier_ratio: " + v + "\n");
+    const std::string out = d / "out";
+    const CommandResult r =
+        runDynslam({"run", rpyDir(), "-o", out, "--config", cfg, "--max-frames", "5"});
+    expectFailure(r, {cfg, "reliable_inlier_ratio"}, out);
+  }
+}
+
 // A configured vocabulary that does not exist stops the run before any
 // output, naming the file.
 TEST(SystemBadInput, MissingVocabularyNamesTheFile) {
