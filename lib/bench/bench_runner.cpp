@@ -94,16 +94,16 @@ RunRecord BenchRunner::runOne(const SequenceInfo& seq, const std::string& mode, 
       return r;
     }
     const std::string report = readTextFile(r.dir + "/report.json");
-    r.fps = jsonTopLevelNumber(report, "fps");
-    r.recall = jsonTopLevelNumber(report, "recall");
-    r.false_rejection = jsonTopLevelNumber(report, "false_rejection_rate");
+    r.fps = jsonNumberAt(report, "fps");
+    r.recall = jsonNumberAt(report, "mask_scores.recall");
+    r.false_rejection = jsonNumberAt(report, "mask_scores.false_rejection_rate");
     r.false_rejection_outside_boxes =
-        jsonTopLevelNumber(report, "false_rejection_rate_outside_unmasked_person_boxes");
-    r.standing_rejection = jsonTopLevelNumber(report, "standing_rejection_rate");
-    r.keyframes = jsonTopLevelNumber(report, "keyframes");
-    r.map_points = jsonTopLevelNumber(report, "map_points");
-    r.relocalisations = jsonTopLevelNumber(report, "relocalisation_count");
-    r.loops_closed = jsonTopLevelNumber(report, "loops_closed");
+        jsonNumberAt(report, "mask_scores.false_rejection_rate_outside_unmasked_person_boxes");
+    r.standing_rejection = jsonNumberAt(report, "mask_scores.standing_rejection_rate");
+    r.keyframes = jsonNumberAt(report, "keyframes");
+    r.map_points = jsonNumberAt(report, "map_points");
+    r.relocalisations = jsonNumberAt(report, "relocalisation_count");
+    r.loops_closed = jsonNumberAt(report, "loop_closing.loops_closed");
     r.times = readFrameTimes(r.dir + "/frame_times.txt");
     if (!seq.groundtruth.empty()) {
       // Exactly `dynslam eval GT EST --seq SEQ` (coverage needs a TUM folder),

@@ -1,7 +1,6 @@
 #pragma once
 // Reads what `dynslam run` leaves in its run folder for the benchmarks:
-// frame_times.txt (one line per frame) and a few top-level numbers of
-// report.json. Reading them back, rather than linking the pipeline in, keeps
+// frame_times.txt (one line per frame) and a few numbers of report.json. Reading them back, rather than linking the pipeline in, keeps
 // every benchmark run a plain `dynslam run`, identical to a user's.
 #include <string>
 #include <vector>
@@ -18,10 +17,12 @@ struct FrameTimes {
 /// Throws InputError (file:line) for a missing file or a malformed line.
 FrameTimes readFrameTimes(const std::string& path);
 
-/// The number stored under a top-level key of a report.json written by
-/// core/json_writer.h ("key": value); NaN when the key is absent or null.
-/// Only for keys that occur once in the document (e.g. "fps", "peak_rss_mb").
-double jsonTopLevelNumber(const std::string& json_text, const std::string& key);
+/// The number at a dotted key path of a JSON document ("fps",
+/// "mask_scores.recall"): each part is an object key, one nesting level
+/// deeper, so "keyframes" is the top-level one even when a nested object has
+/// the same key. NaN when the path is absent, its value is not a number
+/// (null, a string, an object) or the text is not well-formed JSON.
+double jsonNumberAt(const std::string& json_text, const std::string& path);
 
 /// The whole file as a string; throws InputError if it cannot be read.
 std::string readTextFile(const std::string& path);

@@ -388,5 +388,36 @@ TEST(BenchCli, EndToEndOnFr1RpyWritesBothReports) {
     EXPECT_TRUE(std::filesystem::exists(tmp / ("b/rgbd_dataset_freiburg1_rpy/off/" + std::string(png)))) << png;
 }
 
+// report.json has the same key at several depths ("keyframes" at the top and
+// in "final_global_ba"); the key path picks the one asked for, whatever the
+// order, and skips strings and arrays holding braces, quotes and keys.
+TEST(JsonNumberAt, FollowsTheKeyPathNotTheFirstOccurrence) {
+  const std::string nested_first =
+      R"({"final_global_ba": {"keyframes": 9, "ms": 1.5}, "keyframes": 5,)"
+      R"( "mask_scores": {"recall": 0.9125, "per_frame": [[1, 2], [3, 4]]}})";
+  EXPECT_DOUBLE_EQ(jsonNumberAt(nested_first, "keyframes"), 5.0);
+  EXPECT_DOUBLE_EQ(jsonNumberAt(nested_first, "final_global_ba.keyframes"), 9.0);
+  EXPECT_DOUBLE_EQ(jsonNumberAt(nested_first, "mask_scores.recall"), 0.9125);
+  const std::string tricky =
+      R"({"s": "a}\"{\"fps\": 1", "arr": [1, {"fps": 3}, "]"], "fps": -7.5e1})";
+  EXPECT_DOUBLE_EQ(jsonNumberAt(tricky, "fps"), -75.0);
+}
+
+TEST(JsonNumberAt, AbsentNullNonNumberOrMalformedIsNaN) {
+  const std::string doc = R"({"a": null, "b": "3", "c": {"d": 1}, "e": [2]})";
+  EXPECT_TRUE(std::isnan(jsonNumberAt(doc, "a")));
+  EXPECT_TRUE(std::isnan(jsonNumberAt(doc, "b")));
+  EXPECT_TRUE(std::isnan(jsonNumberAt(doc, "c")));
+  EXPECT_TRUE(std::isnan(jsonNumberAt(doc, "e")));
+  EXPECT_TRUE(std::isnan(jsonNumberAt(doc, "d")));  // only under "c"
+  EXPECT_TRUE(std::isnan(jsonNumberAt(doc, "c.x")));
+  EXPECT_TRUE(std::isnan(jsonNumberAt(doc, "missing")));
+  EXPECT_TRUE(std::isnan(jsonNumberAt(doc, "")));
+  EXPECT_TRUE(std::isnan(jsonNumberAt(R"({"a": {"b": )", "a.b")));
+  EXPECT_TRUE(std::isnan(jsonNumberAt(R"({"a": "unterminated)", "z")));
+  EXPECT_TRUE(std::isnan(jsonNumberAt("", "a")));
+  EXPECT_TRUE(std::isnan(jsonNumberAt("not json", "a")));
+}
+
 }  // namespace
 }  // namespace dynslam
