@@ -25,7 +25,7 @@ namespace dynslam {
 struct BoxCarrierParams {
   /// A box is dropped this many frames after the detection it came from
   /// (unless a newer detection replaces it).
-  int max_age_frames = 10;
+  int max_age_frames = 20;
   /// Central part of the box (fraction of width and height) whose tracked
   /// points give its motion (the rim is mostly background).
   float inner_fraction = 0.6f;

@@ -208,6 +208,19 @@ void DynamicFeatureFilter::process(const RGBDFrame& frame, const cv::Mat& gray,
     if (can_carry) {
       stand_in.mask = warpedMotionMask(cur_points, tracked);
       stand_in.warped = true;
+      // The points carried into this frame stay what they were (moving)
+      // and age on, so the walkers keep their seeds through the dropped frame.
+      for (std::size_t i = 0; i < tracked.size(); ++i) {
+        if (!tracked[i] || !prev_age_[i]) continue;
+        stand_in.moving.push_back(cur_points[i]);
+        const cv::Point q(cvRound(cur_points[i].x), cvRound(cur_points[i].y));
+        const bool in_region = q.x >= 0 && q.y >= 0 && q.x < stand_in.mask.cols &&
+                               q.y < stand_in.mask.rows && stand_in.mask.at<uint8_t>(q);
+        if (in_region && prev_age_[i] > 1) {
+          stand_in.carried.push_back(cur_points[i]);
+          stand_in.carried_age.push_back(uint8_t(prev_age_[i] - 1));
+        }
+      }
       flagged = flagEvidence(stand_in, box_mask, keypoints, dynamic);
     }
     if (!can_carry || double(flagged) > budget) {

@@ -39,6 +39,10 @@ namespace dynslam {
 struct DynamicFilterParams {
   bool use_detector = true;
   bool use_flow = true;
+  /// ORB keypoints per frame in the dynamic modes (replaces orb.n_features
+  /// there; 0 = keep it): movers take a good share of the keypoints, and the
+  /// static rest must still carry tracking when they fill the view.
+  int orb_features = 1500;
   /// Run the detector in a background thread on the newest frame (false:
   /// synchronously, reproducible but slow).
   bool async_detector = true;

@@ -90,6 +90,9 @@ RunSummary runSlam(const RunOptions& opt) {
   if (opt.max_frames > 0) n = std::min(n, opt.max_frames);
   makeDirectories(opt.out_dir);
 
+  // A third of the keypoints can land on movers and be dropped: the dynamic
+  // modes extract more so that tracking keeps enough static ones.
+  if (opt.mode != "off" && cfg.dynamic.orb_features > 0) cfg.orb.n_features = cfg.dynamic.orb_features;
   SlamSystem slam(cfg, source->camera());
   std::unique_ptr<DynamicFeatureFilter> filter;
   if (opt.mode != "off") {

@@ -98,8 +98,11 @@ SlamConfig loadSlamConfig(const std::string& path) {
       .read("carry_boxes", d.carry_boxes)
       .read("carry_frames", d.carry_frames)
       .read("min_hint_points", d.min_hint_points)
+      .read("orb_features", d.orb_features)
       .read("max_motion_fraction", d.max_motion_fraction)
       .read("carry_last_regions", d.carry_last_regions);
+  if (d.orb_features != 0 && d.orb_features < 50)
+    throw InputError(path, "dynamic: orb_features must be 0 (keep orb.n_features) or >= 50");
   if (d.detector_interval < 1 || d.mask_margin_px < 0 || d.moving_point_radius_px < 0 ||
       d.max_flow_points < 0 || d.carry_frames < 0 || d.carry_frames > 255 ||
       d.min_hint_points < 0 || !(d.max_motion_fraction > 0) || d.max_motion_fraction > 1)
