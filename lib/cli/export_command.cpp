@@ -51,7 +51,9 @@ int exportMain(int argc, char** argv) {
       "dynslam config YAML; its map_export: section sets the dense map parameters "
       "(min_depth, max_depth, pixel_stride, mask_margin_px, voxel_leaf, remove_outliers, "
       "outlier_neighbours, outlier_stddev, carve_free_space, carve_min_views, carve_ratio, "
-      "carve_margin_m, carve_margin_rel, carve_window_px); other sections are ignored",
+      "carve_margin_m, carve_margin_rel, carve_window_px); other sections are ignored. "
+      "Default: the config the run used (run_info.yaml's config:) if it still exists, else "
+      "the built-in defaults",
       false, "", "YAML", cmd);
   TCLAP::ValueArg<std::string> camera_arg(
       "", "camera", "camera YAML overriding run_info.yaml's camera_config", false, "",
@@ -76,8 +78,14 @@ int exportMain(int argc, char** argv) {
   if (!parseArguments(cmd, argc, argv, exit_code)) return exit_code;
 
   mapFormatFromPath(out_arg.getValue());  // bad extension: fail before any work
+  const RunDirectory run = readRunDirectory(run_arg.getValue());
   DenseMapOptions options;
-  if (config_arg.isSet()) options = loadDenseMapOptions(config_arg.getValue(), options);
+  if (config_arg.isSet()) {
+    options = loadDenseMapOptions(config_arg.getValue(), options);
+  } else if (!run.config.empty() && fileExists(run.config) && !isDirectory(run.config)) {
+    std::fprintf(stderr, "map_export parameters from the run's config %s\n", run.config.c_str());
+    options = loadDenseMapOptions(run.config, options);
+  }
   if (voxel_arg.isSet()) options.voxel_leaf = voxel_arg.getValue();
   if (stride_arg.isSet()) options.projection.pixel_stride = stride_arg.getValue();
   if (margin_arg.isSet()) options.projection.mask_margin_px = margin_arg.getValue();
@@ -85,7 +93,6 @@ int exportMain(int argc, char** argv) {
   if (no_carving_arg.getValue()) options.carving.enabled = false;
   validateDenseMapOptions(options, "command line");
 
-  const RunDirectory run = readRunDirectory(run_arg.getValue());
   const std::string camera = camera_arg.isSet() ? camera_arg.getValue() : run.camera_config;
   const auto source = openSequence(run.input, camera);
   std::fprintf(stderr, "exporting %zu keyframes from %s\n", run.keyframes.size(),

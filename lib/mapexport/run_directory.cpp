@@ -59,6 +59,11 @@ RunDirectory readRunDirectory(const std::string& dir) {
       fs::exists(fs::path(dir) / run.camera_config)) {
     run.camera_config = (fs::path(dir) / run.camera_config).string();
   }
+  run.config = text("config");
+  if (!run.config.empty() && fs::path(run.config).is_relative() &&
+      fs::exists(fs::path(dir) / run.config)) {
+    run.config = (fs::path(dir) / run.config).string();
+  }
   run.keyframes = readTumTrajectory(run.keyframesPath());
   if (run.keyframes.empty()) throw InputError(run.keyframesPath(), "no keyframes");
   return run;

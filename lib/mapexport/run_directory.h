@@ -2,7 +2,8 @@
 // The output folder of `dynslam run`, as `dynslam export` consumes it:
 //   keyframes.txt          final keyframe poses (TUM format; timestamps are the
 //                          input frames' RGB timestamps)
-//   run_info.yaml          `input:` sequence path, `camera_config:` (may be empty)
+//   run_info.yaml          `input:` sequence path, `camera_config:` (may be empty),
+//                          `config:` the SLAM config the run used (optional)
 //   dynamic_masks/<t>.png  optional, CV_8U, 255 = dynamic, t with 6 decimals
 //   map_points.txt         optional sparse map ("x y z r g b")
 // and, from the input sequence, masks/<rgb stem>.png when it has them
@@ -26,6 +27,7 @@ struct RunDirectory {
   std::string dir;
   std::string input;          ///< sequence path (TUM folder or rawlog)
   std::string camera_config;  ///< camera YAML; empty = chosen by openSequence
+  std::string config;         ///< the run's SLAM config YAML (`config:`); may be empty
   Trajectory keyframes;
 
   std::string keyframesPath() const { return dir + "/keyframes.txt"; }

@@ -669,6 +669,29 @@ TEST(ExportCli, NoCarvingFlagKeepsTheWalkers) {
   EXPECT_NE(off.output.find("0 carved"), std::string::npos) << off.output;
   EXPECT_EQ(readPly(dir / "off.ply").size(), std::size_t(3 * kW * kH));
   EXPECT_EQ(readPly(dir / "on.ply").size(), std::size_t(3 * kW * kH - 240));
+  // Without --config the run's own config (run_info.yaml's config:) sets the
+  // parameters; an explicit --config wins over it.
+  writeText(dir / "runcfg.yaml", "map_export:\n  carve_free_space: false\n");
+  writeText(dir / "run/run_info.yaml", "input: " + seq + "\ncamera_config: " + (dir / "cam.yaml") +
+                                           "\nconfig: " + (dir / "runcfg.yaml") + "\n");
+  const auto from_run = test::runDynslam({"export", dir / "run", "-o", dir / "run.ply", "--voxel",
+                                          "0", "--no-outlier-removal", "--mask-margin", "0"});
+  ASSERT_EQ(from_run.exit_code, 0) << from_run.output;
+  EXPECT_NE(from_run.output.find("runcfg.yaml"), std::string::npos) << from_run.output;
+  EXPECT_EQ(readPly(dir / "run.ply").size(), std::size_t(3 * kW * kH));
+  writeText(dir / "carve.yaml", "map_export:\n  carve_free_space: true\n");
+  const auto explicit_cfg =
+      test::runDynslam({"export", dir / "run", "-o", dir / "explicit.ply", "--voxel", "0",
+                        "--no-outlier-removal", "--mask-margin", "0", "--config", dir / "carve.yaml"});
+  ASSERT_EQ(explicit_cfg.exit_code, 0) << explicit_cfg.output;
+  EXPECT_EQ(readPly(dir / "explicit.ply").size(), std::size_t(3 * kW * kH - 240));
+  // A run config that no longer exists: the built-in defaults (carving on).
+  writeText(dir / "run/run_info.yaml", "input: " + seq + "\ncamera_config: " + (dir / "cam.yaml") +
+                                           "\nconfig: " + (dir / "gone.yaml") + "\n");
+  const auto gone = test::runDynslam({"export", dir / "run", "-o", dir / "gone.ply", "--voxel",
+                                      "0", "--no-outlier-removal", "--mask-margin", "0"});
+  ASSERT_EQ(gone.exit_code, 0) << gone.output;
+  EXPECT_EQ(readPly(dir / "gone.ply").size(), std::size_t(3 * kW * kH - 240));
   // A bad carving value in --config fails before any work, naming the file.
   writeText(dir / "bad.yaml", "map_export:\n  carve_ratio: -1\n");
   const auto bad = test::runDynslam({"export", dir / "run", "-o", dir / "bad.ply", "--config",
