@@ -214,6 +214,19 @@ void expectFailure(const CommandResult& r, const std::vector<std::string>& must_
     EXPECT_FALSE(fs::exists(out_dir + "/" + f)) << f;
 }
 
+// `dynslam run` (5 frames of fr1_rpy, optionally in `mode`) with a config
+// holding only `yaml` must fail as above, naming the file and `key`.
+void expectConfigRejected(const std::string& yaml, const std::string& key,
+                          const std::string& mode = "") {
+  TempDir d;
+  const std::string cfg = d / "config.yaml";
+  writeText(cfg, yaml);
+  const std::string out = d / "out";
+  std::vector<std::string> args{"run", rpyDir(), "-o", out, "--config", cfg, "--max-frames", "5"};
+  if (!mode.empty()) args.insert(args.end(), {"--mode", mode});
+  expectFailure(runDynslam(args), {cfg, key}, out);
+}
+
 }  // namespace
 
 TEST(SystemBadInput, MissingInputFolder) {
@@ -225,69 +238,31 @@ TEST(SystemBadInput, MissingInputFolder) {
 }
 
 TEST(SystemBadInput, ConfigWithUnknownKey) {
-  TempDir d;
-  const std::string cfg = d / "typo.yaml";
-  writeText(cfg, "tracker:\n  motion_search_radiuss: 10.0\n");
-  const std::string out = d / "out";
-  const CommandResult r =
-      runDynslam({"run", rpyDir(), "-o", out, "--config", cfg, "--max-frames", "5"});
-  expectFailure(r, {cfg, "motion_search_radiuss"}, out);
+  expectConfigRejected("tracker:\n  motion_search_radiuss: 10.0\n", "motion_search_radiuss");
 }
 
 TEST(SystemBadInput, ConfigWithUnknownSection) {
-  TempDir d;
-  const std::string cfg = d / "section.yaml";
-  writeText(cfg, "trackr:\n  motion_search_radius: 10.0\n");
-  const std::string out = d / "out";
-  const CommandResult r =
-      runDynslam({"run", rpyDir(), "-o", out, "--config", cfg, "--max-frames", "5"});
-  expectFailure(r, {cfg, "trackr"}, out);
+  expectConfigRejected("trackr:\n  motion_search_radius: 10.0\n", "trackr");
 }
 
 TEST(SystemBadInput, ConfigWithWrongType) {
-  TempDir d;
-  const std::string cfg = d / "type.yaml";
-  writeText(cfg, "orb:\n  n_features: many\n");
-  const std::string out = d / "out";
-  const CommandResult r =
-      runDynslam({"run", rpyDir(), "-o", out, "--config", cfg, "--max-frames", "5"});
-  expectFailure(r, {cfg, "n_features"}, out);
+  expectConfigRejected("orb:\n  n_features: many\n", "n_features");
 }
 
 TEST(SystemBadInput, MotionFractionOutOfRange) {
-  TempDir d;
-  for (const std::string v : {"0", "1.5", "-0.2"}) {
-    const std::string cfg = d / "mmf.yaml";
-    writeText(cfg, "dynamic:\n  max_motion_fraction: " + v + "\n");
-    const std::string out = d / "out";
-    const CommandResult r =
-        runDynslam({"run", rpyDir(), "-o", out, "--config", cfg, "--max-frames", "5"});
-    expectFailure(r, {cfg, "max_motion_fraction"}, out);
-  }
+  for (const std::string v : {"0", "1.5", "-0.2"})
+    expectConfigRejected("dynamic:\n  max_motion_fraction: " + v + "\n", "max_motion_fraction");
 }
 
 TEST(SystemBadInput, DynamicOrbFeaturesTooFew) {
-  TempDir d;
-  for (const std::string v : {"10", "-5"}) {
-    const std::string cfg = d / "of.yaml";
-    writeText(cfg, "dynamic:\n  orb_features: " + v + "\n");
-    const std::string out = d / "out";
-    const CommandResult r = runDynslam(
-        {"run", rpyDir(), "-o", out, "--config", cfg, "--max-frames", "5", "--mode", "flow"});
-    expectFailure(r, {cfg, "orb_features"}, out);
-  }
+  for (const std::string v : {"10", "-5"})
+    expectConfigRejected("dynamic:\n  orb_features: " + v + "\n", "orb_features", "flow");
 }
 
 TEST(SystemBadInput, ReliableInlierRatioOutOfRange) {
-  TempDir d;
-  for (const std::string v : {"-0.1", "1.2"}) {
-    const std::string cfg = d / "rir.yaml";
-    writeText(cfg, "dynamic:\n  motion_check:\n    reliable_inlier_ratio: " + v + "\n");
-    const std::string out = d / "out";
-    const CommandResult r =
-        runDynslam({"run", rpyDir(), "-o", out, "--config", cfg, "--max-frames", "5"});
-    expectFailure(r, {cfg, "reliable_inlier_ratio"}, out);
-  }
+  for (const std::string v : {"-0.1", "1.2"})
+    expectConfigRejected("dynamic:\n  motion_check:\n    reliable_inlier_ratio: " + v + "\n",
+                         "reliable_inlier_ratio");
 }
 
 // A configured vocabulary that does not exist stops the run before any
