@@ -14,6 +14,7 @@
 #include "dynamic/box_carrier.h"
 #include "dynamic/mask_scoring.h"
 #include "dynamic/motion_check.h"
+#include "synthetic_scene.h"
 
 using namespace dynslam;
 
@@ -118,22 +119,10 @@ TEST(BoxCarrier, BadInputsThrow) {
 // on its own (detected). Frame 2 -> 3: it moves by only 1 px more than the
 // walls, under the 3 px threshold: only the carried points keep it masked.
 TEST(MotionCarry, CarriedPointsKeepASlowObjectMasked) {
-  const int W = 320, H = 240, half = W / 2;
-  PinholeCamera cam;
-  cam.width = W;
-  cam.height = H;
-  cam.fx = cam.fy = 300;
-  cam.cx = 160;
-  cam.cy = 120;
-  cam.depth_scale = 5000;
+  const int W = test::kSceneWidth, H = test::kSceneHeight, half = W / 2;
+  const PinholeCamera cam = test::sceneCamera();
   cv::RNG rng(11);
-  auto texture = [&](cv::Size size) {
-    cv::Mat noise(size, CV_8U);
-    rng.fill(noise, cv::RNG::UNIFORM, 0, 255);
-    cv::GaussianBlur(noise, noise, cv::Size(0, 0), 1.5);
-    cv::normalize(noise, noise, 0, 255, cv::NORM_MINMAX);
-    return noise;
-  };
+  auto texture = [&](cv::Size size) { return test::noiseTexture(rng, size); };
   const cv::Mat far = texture({W + 60, H + 60}), near = texture({W + 60, H + 60}),
                 tex = texture({80, 80});
   auto render = [&](int far_dx, int near_dx, const cv::Rect& box, cv::Mat& g, cv::Mat& d) {

@@ -11,31 +11,13 @@
 #include <vector>
 
 #include "dynamic/dynamic_feature_filter.h"
+#include "synthetic_scene.h"
 
 using namespace dynslam;
 
 namespace {
 
-constexpr int W = 320, H = 240;
-
-PinholeCamera camera() {
-  PinholeCamera cam;
-  cam.width = W;
-  cam.height = H;
-  cam.fx = cam.fy = 300;
-  cam.cx = 160;
-  cam.cy = 120;
-  cam.depth_scale = 5000;
-  return cam;
-}
-
-cv::Mat texture(cv::RNG& rng, cv::Size size) {
-  cv::Mat noise(size, CV_8U);
-  rng.fill(noise, cv::RNG::UNIFORM, 0, 255);
-  cv::GaussianBlur(noise, noise, cv::Size(0, 0), 1.5);
-  cv::normalize(noise, noise, 0, 255, cv::NORM_MINMAX);
-  return noise;
-}
+constexpr int W = test::kSceneWidth, H = test::kSceneHeight;
 
 // The camera slides 4 cm per frame along +x: the wall (3 m) moves 4 px left
 // per frame, a static object at 2 m 6 px, one at 1.5 m 8 px.
@@ -52,8 +34,8 @@ struct Sequence {
 
 Sequence makeSequence() {
   cv::RNG rng(5);
-  const cv::Mat wall = texture(rng, {W + 60, H + 60}), a = texture(rng, {60, 60}),
-                b = texture(rng, {90, 90});
+  const cv::Mat wall = test::noiseTexture(rng, {W + 60, H + 60}),
+                a = test::noiseTexture(rng, {60, 60}), b = test::noiseTexture(rng, {90, 90});
   Sequence s;
   for (int k = 0; k < 4; ++k) {
     cv::Mat g = wall(cv::Rect(30 + 4 * k, 30, W, H)).clone();
@@ -136,7 +118,7 @@ std::vector<std::vector<uint8_t>> run(DynamicFeatureFilter& filter, const Sequen
 
 TEST(DynamicFeatureFilterBudget, DroppedFrameStandsInTheLastRegionsMovedByTheFlow) {
   const Sequence s = makeSequence();
-  DynamicFeatureFilter filter(flowOnly(true), camera());
+  DynamicFeatureFilter filter(flowOnly(true), test::sceneCamera());
   const auto flags = run(filter, s);
 
   // Frame 2, under the budget: the walker is flagged, the still object and
@@ -162,7 +144,7 @@ TEST(DynamicFeatureFilterBudget, DroppedFrameStandsInTheLastRegionsMovedByTheFlo
 
 TEST(DynamicFeatureFilterBudget, WithoutCarryingADroppedFrameFlagsNothing) {
   const Sequence s = makeSequence();
-  DynamicFeatureFilter filter(flowOnly(false), camera());
+  DynamicFeatureFilter filter(flowOnly(false), test::sceneCamera());
   const auto flags = run(filter, s);
   EXPECT_EQ(filter.droppedMotionFrames(), 1u);
   const Shares f2 = score(s.keypoints[2], flags[2], 2);
@@ -178,7 +160,7 @@ TEST(DynamicFeatureFilterBudget, WholeBudgetKeepsBothMovers) {
   const Sequence s = makeSequence();
   DynamicFilterParams p = flowOnly(true);
   p.max_motion_fraction = 1.0;
-  DynamicFeatureFilter filter(p, camera());
+  DynamicFeatureFilter filter(p, test::sceneCamera());
   const auto flags = run(filter, s);
   EXPECT_EQ(filter.droppedMotionFrames(), 0u);
   const Shares f3 = score(s.keypoints[3], flags[3], 3);

@@ -16,6 +16,7 @@
 #include "core/camera.h"
 #include "dynamic/motion_check.h"
 #include "rawlog/tum_folder_source.h"
+#include "synthetic_scene.h"
 #include "testing/test_support.h"
 
 using namespace dynslam;
@@ -159,23 +160,11 @@ TEST(ClassifyMotion, StaticSceneHasNoDynamicPoints) {
 // motion would be explainable by a camera rotation + translation: at least
 // two static depths are needed to pin the camera down.)
 TEST(MotionConsistencyCheck, RenderedMovingBoxIsFlaggedAndMasked) {
-  const int W = 320, H = 240, half = W / 2;
-  PinholeCamera cam;
-  cam.width = W;
-  cam.height = H;
-  cam.fx = cam.fy = 300;
-  cam.cx = 160;
-  cam.cy = 120;
-  cam.depth_scale = 5000;
+  const int W = test::kSceneWidth, H = test::kSceneHeight, half = W / 2;
+  const PinholeCamera cam = test::sceneCamera();
 
   cv::RNG rng(7);
-  auto texture = [&](cv::Size size) {
-    cv::Mat noise(size, CV_8U);
-    rng.fill(noise, cv::RNG::UNIFORM, 0, 255);
-    cv::GaussianBlur(noise, noise, cv::Size(0, 0), 1.5);
-    cv::normalize(noise, noise, 0, 255, cv::NORM_MINMAX);
-    return noise;
-  };
+  auto texture = [&](cv::Size size) { return test::noiseTexture(rng, size); };
   const cv::Mat wall_far = texture(cv::Size(W + 40, H + 40));
   const cv::Mat wall_near = texture(cv::Size(W + 40, H + 40));
   const cv::Mat box_tex = texture(cv::Size(80, 80));
