@@ -49,21 +49,17 @@ RunDirectory readRunDirectory(const std::string& dir) {
       throw InputError(run.runInfoPath(), std::string("key '") + key + "' is not a string");
     }
   };
-  run.input = text("input");
+  // A relative path is resolved against the run folder if it exists there.
+  auto path = [&](const char* key) {
+    const std::string p = text(key);
+    if (!p.empty() && fs::path(p).is_relative() && fs::exists(fs::path(dir) / p))
+      return (fs::path(dir) / p).string();
+    return p;
+  };
+  run.input = path("input");
   if (run.input.empty()) throw InputError(run.runInfoPath(), "missing key 'input'");
-  if (fs::path(run.input).is_relative() && fs::exists(fs::path(dir) / run.input)) {
-    run.input = (fs::path(dir) / run.input).string();
-  }
-  run.camera_config = text("camera_config");
-  if (!run.camera_config.empty() && fs::path(run.camera_config).is_relative() &&
-      fs::exists(fs::path(dir) / run.camera_config)) {
-    run.camera_config = (fs::path(dir) / run.camera_config).string();
-  }
-  run.config = text("config");
-  if (!run.config.empty() && fs::path(run.config).is_relative() &&
-      fs::exists(fs::path(dir) / run.config)) {
-    run.config = (fs::path(dir) / run.config).string();
-  }
+  run.camera_config = path("camera_config");
+  run.config = path("config");
   run.keyframes = readTumTrajectory(run.keyframesPath());
   if (run.keyframes.empty()) throw InputError(run.keyframesPath(), "no keyframes");
   return run;
