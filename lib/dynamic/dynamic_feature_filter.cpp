@@ -210,17 +210,8 @@ void DynamicFeatureFilter::process(const RGBDFrame& frame, const cv::Mat& gray,
       stand_in.warped = true;
       // The points carried into this frame stay what they were (moving)
       // and age on, so the walkers keep their seeds through the dropped frame.
-      for (std::size_t i = 0; i < tracked.size(); ++i) {
-        if (!tracked[i] || !prev_age_[i]) continue;
-        stand_in.moving.push_back(cur_points[i]);
-        const cv::Point q(cvRound(cur_points[i].x), cvRound(cur_points[i].y));
-        const bool in_region = q.x >= 0 && q.y >= 0 && q.x < stand_in.mask.cols &&
-                               q.y < stand_in.mask.rows && stand_in.mask.at<uint8_t>(q);
-        if (in_region && prev_age_[i] > 1) {
-          stand_in.carried.push_back(cur_points[i]);
-          stand_in.carried_age.push_back(uint8_t(prev_age_[i] - 1));
-        }
-      }
+      for (std::size_t i = 0; i < tracked.size(); ++i)
+        if (tracked[i] && prev_age_[i]) stand_in.addMoving(cur_points[i], int(prev_age_[i]) - 1);
       flagged = flagEvidence(stand_in, box_mask, keypoints, dynamic);
     }
     if (!can_carry || double(flagged) > budget) {
@@ -293,20 +284,24 @@ DynamicFeatureFilter::MotionEvidence DynamicFeatureFilter::motionEvidence(
     if (!tracked[i]) continue;
     const uint8_t age_before = prev_age_[i];
     if (!r.dynamic[i] && !age_before) continue;
-    ev.moving.push_back(cur_points[i]);
-    // Carried on only inside a region that passed the vote: an isolated
-    // outlier carried for 3 frames would triple the outlier rate the vote
-    // has to beat. Moving now: carry_frames; carried before: one less.
-    const cv::Point q(cvRound(cur_points[i].x), cvRound(cur_points[i].y));
-    const bool in_region = !ev.mask.empty() && q.x >= 0 && q.y >= 0 && q.x < ev.mask.cols &&
-                           q.y < ev.mask.rows && ev.mask.at<uint8_t>(q);
-    const int age = r.dynamic[i] ? p_.carry_frames : int(age_before) - 1;
-    if (in_region && age > 0) {
-      ev.carried.push_back(cur_points[i]);
-      ev.carried_age.push_back(uint8_t(std::min(age, 255)));
-    }
+    // Moving now: carried for carry_frames; carried before: one less.
+    ev.addMoving(cur_points[i], r.dynamic[i] ? p_.carry_frames : int(age_before) - 1);
   }
   return ev;
+}
+
+void DynamicFeatureFilter::MotionEvidence::addMoving(const cv::Point2f& p, int age) {
+  moving.push_back(p);
+  // Carried on only inside a region that passed the vote: an isolated
+  // outlier carried for 3 frames would triple the outlier rate the vote
+  // has to beat.
+  const cv::Point q(cvRound(p.x), cvRound(p.y));
+  const bool in_region = !mask.empty() && q.x >= 0 && q.y >= 0 && q.x < mask.cols &&
+                         q.y < mask.rows && mask.at<uint8_t>(q);
+  if (in_region && age > 0) {
+    carried.push_back(p);
+    carried_age.push_back(uint8_t(std::min(age, 255)));
+  }
 }
 
 cv::Mat DynamicFeatureFilter::boxMask(const RGBDFrame& frame,

@@ -114,6 +114,9 @@ class DynamicFeatureFilter : public ObservationPreprocessor {
     std::vector<cv::Point2f> moving;
     std::vector<cv::Point2f> carried;
     std::vector<uint8_t> carried_age;
+    /// A tracked point that moved (or was carried): kept as moving, and
+    /// carried on for `age` more frames if it lies in `mask`.
+    void addMoving(const cv::Point2f& p, int age);
   };
   MotionEvidence motionEvidence(const MotionFrame& cur, const std::vector<cv::Point2f>& cur_points,
                                 const std::vector<uint8_t>& tracked, cv::Size size);
