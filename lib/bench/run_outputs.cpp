@@ -27,7 +27,8 @@ namespace {
 
 // A minimal recursive scanner over JSON values: enough to walk report.json
 // down a key path, skipping everything off the path. Malformed text stops it
-// (Malformed is caught by jsonNumberAt).
+// (Malformed is caught by jsonNumberAt). Not cv::FileStorage's JSON reader:
+// OpenCV 4.6 rejects `null`, which core/json_writer.h writes for NaN.
 struct Malformed {};
 
 class JsonPathScanner {
