@@ -19,7 +19,9 @@ void readDenseMapOptions(ConfigSection s, DenseMapOptions& o) {
       .read("carve_ratio", o.carving.ratio)
       .read("carve_margin_m", o.carving.margin_m)
       .read("carve_margin_rel", o.carving.margin_rel)
-      .read("carve_window_px", o.carving.window_px);
+      .read("carve_window_px", o.carving.window_px)
+      .read("carve_dynamic_ratio", o.carving.dynamic_ratio)
+      .read("carve_min_confirmations", o.carving.min_confirmations);
   s.rejectUnknownKeys();
   validateDenseMapOptions(o, s.file());
 }

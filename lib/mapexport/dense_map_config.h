@@ -15,6 +15,8 @@
 //     carve_ratio: 1.0        # ... and more than ratio x the confirmations
 //     carve_margin_m: 0.10    # m; depth margin, at least ...
 //     carve_margin_rel: 0.05  # ... this share of the point's depth
+//     carve_dynamic_ratio: 1.0     # dynamic-mask votes >= ratio x confirmations
+//     carve_min_confirmations: 3   # keyframes that must confirm a point
 //     carve_window_px: 5      # odd; minimum-depth window for seen-through
 #include <string>
 

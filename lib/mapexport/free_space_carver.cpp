@@ -34,6 +34,12 @@ void checkCarvingOptions(const FreeSpaceCarvingOptions& o) {
   if (o.window_px < 1 || o.window_px > 31 || o.window_px % 2 == 0) {
     throw std::invalid_argument("carve_window_px must be odd, 1..31");
   }
+  if (!(o.dynamic_ratio >= 0) || !std::isfinite(o.dynamic_ratio)) {
+    throw std::invalid_argument("carve_dynamic_ratio must be a finite number >= 0");
+  }
+  if (o.min_confirmations < 0 || o.min_confirmations > 1000) {
+    throw std::invalid_argument("carve_min_confirmations must be in 0..1000");
+  }
 }
 
 FreeSpaceCarver::FreeSpaceCarver(const DepthBackProjector& projector,
@@ -83,7 +89,7 @@ void FreeSpaceCarver::addKeyframe(const cv::Mat& depth, const mrpt::poses::CPose
   kf.cells.resize(std::size_t(cells_w_) * cells_h_);
   for (int cy = 0; cy < cells_h_; ++cy) {
     for (int cx = 0; cx < cells_w_; ++cx) {
-      Cell c{kNoDepth, kNoDepth, 0};
+      Cell c{kNoDepth, kNoDepth, 0, kNoDepth, 0};
       for (int v = 2 * cy; v < std::min(2 * cy + 2, camera_.height); ++v) {
         const auto* d_row = depth.ptr<std::uint16_t>(v);
         const auto* w_row = valid_min.ptr<std::uint16_t>(v);
@@ -91,7 +97,12 @@ void FreeSpaceCarver::addKeyframe(const cv::Mat& depth, const mrpt::poses::CPose
         for (int u = 2 * cx; u < std::min(2 * cx + 2, camera_.width); ++u) {
           c.through = std::min(c.through, w_row[u]);
           const std::uint16_t d = d_row[u];
-          if (d == 0 || d == kNoDepth || (m_row && m_row[u])) continue;
+          if (d == 0 || d == kNoDepth) continue;
+          if (m_row && m_row[u]) {
+            c.dyn_lo = std::min(c.dyn_lo, d);
+            c.dyn_hi = std::max(c.dyn_hi, d);
+            continue;
+          }
           c.conf_lo = std::min(c.conf_lo, d);
           c.conf_hi = std::max(c.conf_hi, d);
         }
@@ -102,7 +113,14 @@ void FreeSpaceCarver::addKeyframe(const cv::Mat& depth, const mrpt::poses::CPose
   keyframes_.push_back(std::move(kf));
 }
 
-bool FreeSpaceCarver::removes(const CarvingVotes& v) const {
+bool FreeSpaceCarver::removes(const CarvingVotes& v, bool apply_min_confirmations) const {
+  const std::size_t needed =
+      std::min<std::size_t>(std::size_t(options_.min_confirmations), keyframes_.size());
+  if (apply_min_confirmations && v.confirmed < needed) return true;
+  if (options_.dynamic_ratio > 0 && v.dynamic >= 1 &&
+      double(v.dynamic) >= options_.dynamic_ratio * v.confirmed) {
+    return true;
+  }
   return v.through >= options_.min_views && double(v.through) > options_.ratio * v.confirmed;
 }
 
@@ -201,6 +219,9 @@ std::vector<CarvingVotes> FreeSpaceCarver::votes(const ColoredCloud& cloud) cons
           } else if (c.conf_hi != 0 &&
                      (std::abs(float(c.conf_lo) - zr) <= m || std::abs(float(c.conf_hi) - zr) <= m)) {
             if (vote.confirmed < 0xFFFF) ++vote.confirmed;
+          } else if (c.dyn_hi != 0 &&
+                     (std::abs(float(c.dyn_lo) - zr) <= m || std::abs(float(c.dyn_hi) - zr) <= m)) {
+            if (vote.dynamic < 0xFFFF) ++vote.dynamic;
           }
         }
       }
@@ -210,10 +231,13 @@ std::vector<CarvingVotes> FreeSpaceCarver::votes(const ColoredCloud& cloud) cons
   return out;
 }
 
-std::vector<std::uint8_t> FreeSpaceCarver::keepFlags(const ColoredCloud& cloud) const {
+std::vector<std::uint8_t> FreeSpaceCarver::keepFlags(const ColoredCloud& cloud,
+                                                     bool apply_min_confirmations) const {
   const std::vector<CarvingVotes> v = votes(cloud);
   std::vector<std::uint8_t> keep(cloud.size());
-  for (std::size_t i = 0; i < cloud.size(); ++i) keep[i] = removes(v[i]) ? 0 : 1;
+  for (std::size_t i = 0; i < cloud.size(); ++i) {
+    keep[i] = removes(v[i], apply_min_confirmations) ? 0 : 1;
+  }
   return keep;
 }
 

@@ -15,14 +15,30 @@
 //                 depth edges and small pose errors safe: a point on the rim
 //                 of a foreground object that projects just beside the object
 //                 still has the object in its window, so it gets no vote;
-//   confirmed:    the depth at the projection agrees within m (pixels of the
-//                 keyframe's grown dynamic mask never confirm);
+//   confirmed:    the depth at the projection agrees within m, on a pixel
+//                 outside the keyframe's grown dynamic mask;
+//   dynamic:      the same agreement, on a pixel inside that mask: this
+//                 keyframe saw something moving *at the point*;
 //   no vote:      anything else, in particular a nearer depth (the point is
 //                 occluded: a static box in front of a wall must not carve
 //                 the wall), no depth, outside the image or the fusion's
 //                 depth limits.
-// A point is removed when through >= min_views and through > ratio *
-// confirmed. A point that no other keyframe saw keeps its own confirmation.
+// A point is removed when any of these holds:
+//   - through >= min_views and through > ratio * confirmed (free space);
+//   - dynamic >= 1 and dynamic >= dynamic_ratio * confirmed (dynamic_ratio
+//     > 0): the masks of the other keyframes outvote the one that missed the
+//     person. Each keyframe's mask misses different parts of a walker, so
+//     the per-keyframe masks are fused into a per-point vote, as semantic
+//     mapping fuses labels;
+//   - confirmed < min(min_confirmations, keyframes) (stable points only):
+//     the parts of a person that every mask missed are fused from one or
+//     two keyframes, and where nothing that the sensor measures lies behind
+//     them (the far side of a desk, a dark screen) no keyframe can see
+//     through them; a static surface is confirmed by the keyframes that
+//     look at it, the ones it was fused from included. This also drops
+//     static points seen by fewer keyframes (the map's fringe).
+// A point counts its own keyframes' confirmations, so with one keyframe
+// only min_confirmations can remove anything.
 //
 // Cost: keyframes keep their depth reduced to 2x2 cells (per cell: the
 // window minimum, and the min/max of the confirming depths; 6 bytes, so
@@ -51,6 +67,8 @@ struct FreeSpaceCarvingOptions {
   double margin_m = 0.10;   ///< metres: depth agreement / see-through margin...
   double margin_rel = 0.05; ///< ... at least this share of the point's depth
   int window_px = 5;        ///< odd; minimum-depth window for seen-through votes
+  double dynamic_ratio = 1.0; ///< dynamic votes >= this x confirmations removes (0 = off)
+  int min_confirmations = 3;  ///< keyframes whose depth must confirm a point (0 = off)
 };
 
 /// Throws std::invalid_argument with a message naming the bad field.
@@ -59,6 +77,7 @@ void checkCarvingOptions(const FreeSpaceCarvingOptions& options);
 struct CarvingVotes {
   std::uint16_t through = 0;    ///< keyframes that saw through the point
   std::uint16_t confirmed = 0;  ///< keyframes whose depth agreed
+  std::uint16_t dynamic = 0;    ///< keyframes whose depth agreed on a dynamic-mask pixel
 };
 
 struct CarvingStats {
@@ -84,10 +103,12 @@ class FreeSpaceCarver {
 
   /// Votes of all keyframes for every point (saturating at 65535).
   std::vector<CarvingVotes> votes(const ColoredCloud& cloud) const;
-  /// The removal rule applied to one point's votes.
-  bool removes(const CarvingVotes& v) const;
+  /// The removal rule applied to one point's votes; without
+  /// apply_min_confirmations only the free-space and dynamic rules.
+  bool removes(const CarvingVotes& v, bool apply_min_confirmations = true) const;
   /// One flag per point: 1 = kept, 0 = carved.
-  std::vector<std::uint8_t> keepFlags(const ColoredCloud& cloud) const;
+  std::vector<std::uint8_t> keepFlags(const ColoredCloud& cloud,
+                                      bool apply_min_confirmations = true) const;
   /// The cloud without the carved points (order kept).
   ColoredCloud carve(const ColoredCloud& cloud, CarvingStats* stats = nullptr) const;
 
@@ -99,6 +120,8 @@ class FreeSpaceCarver {
     std::uint16_t through;  ///< min valid depth over the window; 0xFFFF = none
     std::uint16_t conf_lo;  ///< min / max of the cell's confirming depths;
     std::uint16_t conf_hi;  ///< lo = 0xFFFF, hi = 0 when none
+    std::uint16_t dyn_lo;   ///< the same for the depths under the dynamic mask
+    std::uint16_t dyn_hi;
   };
   struct Keyframe {
     float r[9];  ///< world-to-camera rotation, row-major

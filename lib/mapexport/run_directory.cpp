@@ -127,6 +127,8 @@ void writeReport(const std::string& path, const RunDirectory& run, const FrameSo
       .value("carve_margin_m", o.carving.margin_m)
       .value("carve_margin_rel", o.carving.margin_rel)
       .value("carve_window_px", o.carving.window_px)
+      .value("carve_dynamic_ratio", o.carving.dynamic_ratio)
+      .value("carve_min_confirmations", o.carving.min_confirmations)
       .endObject();
   j.beginObject("up")
       .value("source", r.up.source)
@@ -262,13 +264,16 @@ ExportResult exportRun(const RunDirectory& run, const FrameSource& source,
   map.keyframes = run.keyframes;
   phases["voxel_and_outliers"] = since(t_phase) - builder.stats().carving_seconds;
   phases["free_space_carving"] = builder.stats().carving_seconds;
-  // The sparse map gets the same carving as the dense one (people's points
-  // that the dynamic filter let into the SLAM map).
+  // The sparse map gets the same free-space and dynamic-vote carving as the
+  // dense one (people's points that the dynamic filter let into the SLAM
+  // map), but not the confirmation count: its points were triangulated from
+  // several keyframes already, and they sit on corners and edges, where the
+  // depth at the projection rarely agrees.
   std::vector<std::uint8_t> sparse_keep;
   ExportResult result;
   if (sparse && builder.carver() && builder.carver()->keyframes() > 1) {
     t_phase = Clock::now();
-    sparse_keep = builder.carver()->keepFlags(*sparse);
+    sparse_keep = builder.carver()->keepFlags(*sparse, /*apply_min_confirmations=*/false);
     ColoredCloud kept;
     for (std::size_t i = 0; i < sparse->size(); ++i) {
       if (sparse_keep[i]) kept.push_back((*sparse)[i]);

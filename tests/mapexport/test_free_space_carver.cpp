@@ -87,6 +87,15 @@ Vec3 pixelPoint(const CPose3D& pose_wc, double u, double v, double z) {
   return {x, y, zz};
 }
 
+/// Only the free-space rule (the tests of that rule predate the dynamic
+/// votes and the confirmation count, which have their own tests).
+FreeSpaceCarvingOptions freeSpaceOnly() {
+  FreeSpaceCarvingOptions o;
+  o.dynamic_ratio = 0;
+  o.min_confirmations = 0;
+  return o;
+}
+
 ColoredPoint point(const Vec3& p) { return {float(p[0]), float(p[1]), float(p[2]), 0, 0, 0}; }
 
 cv::Mat constantDepth(double metres) {
@@ -282,7 +291,7 @@ TEST(FreeSpaceCarver, PointSeenByNoOtherKeyframeIsKept) {
   // Keyframe A looks along +z, keyframe B along -z (away from the point):
   // a point only A saw keeps its single confirmation, even with the most
   // aggressive rule (min_views 1, ratio 0).
-  FreeSpaceCarvingOptions o;
+  FreeSpaceCarvingOptions o = freeSpaceOnly();
   o.min_views = 1;
   o.ratio = 0;
   FreeSpaceCarver carver(projector(), o);
@@ -309,16 +318,19 @@ TEST(FreeSpaceCarver, DynamicMaskedPixelsNeverConfirm) {
   const CPose3D id;
   const auto v = carver.votes({point(pixelPoint(id, 30, 60, 2.0)), point(pixelPoint(id, 130, 60, 2.0)),
                                point(pixelPoint(id, 30, 60, 1.0))});
-  EXPECT_EQ(v[0].confirmed, 0);  // masked: no confirmation
+  EXPECT_EQ(v[0].confirmed, 0);  // masked: no confirmation...
+  EXPECT_EQ(v[0].dynamic, 1);    // ...but a dynamic vote at that depth
   EXPECT_EQ(v[1].confirmed, 1);
+  EXPECT_EQ(v[1].dynamic, 0);
   EXPECT_EQ(v[2].through, 1);  // masked pixels still show what lies behind
+  EXPECT_EQ(v[2].dynamic, 0);
   EXPECT_THROW(carver.addKeyframe(constantDepth(2.0), CPose3D(), cv::Mat(5, 5, CV_8UC1)),
                std::invalid_argument);
   EXPECT_THROW(carver.addKeyframe(cv::Mat(kH, kW, CV_32FC1), CPose3D()), std::invalid_argument);
 }
 
 TEST(FreeSpaceCarver, RemovalRuleUsesMinViewsAndRatio) {
-  FreeSpaceCarvingOptions o;
+  FreeSpaceCarvingOptions o = freeSpaceOnly();
   o.min_views = 3;
   o.ratio = 1.5;
   const FreeSpaceCarver carver(projector(), o);
@@ -330,6 +342,77 @@ TEST(FreeSpaceCarver, RemovalRuleUsesMinViewsAndRatio) {
   EXPECT_TRUE(removes(4, 2));   // 4 > 3
   EXPECT_FALSE(removes(3, 2));  // 3 = 1.5 x 2
   EXPECT_FALSE(removes(0, 0));
+}
+
+TEST(FreeSpaceCarver, RemovalRuleCountsDynamicVotesAndConfirmations) {
+  FreeSpaceCarvingOptions o;
+  o.dynamic_ratio = 1.0;
+  o.min_confirmations = 3;
+  FreeSpaceCarver carver(projector(), o);
+  for (int k = 0; k < 5; ++k) carver.addKeyframe(constantDepth(2.0), CPose3D());
+  auto votes = [](int through, int confirmed, int dynamic) {
+    CarvingVotes v;
+    v.through = std::uint16_t(through);
+    v.confirmed = std::uint16_t(confirmed);
+    v.dynamic = std::uint16_t(dynamic);
+    return v;
+  };
+  EXPECT_FALSE(carver.removes(votes(0, 3, 0)));
+  EXPECT_TRUE(carver.removes(votes(0, 2, 0)));         // too few confirmations
+  EXPECT_FALSE(carver.removes(votes(0, 2, 0), false));  // ...unless that rule is skipped
+  EXPECT_TRUE(carver.removes(votes(0, 3, 3)));   // 3 dynamic >= 1 x 3 confirmed
+  EXPECT_FALSE(carver.removes(votes(0, 4, 3)));  // outvoted by the confirmations
+  EXPECT_TRUE(carver.removes(votes(0, 2, 3), false));
+  EXPECT_TRUE(carver.removes(votes(4, 3, 0)));   // free space still applies (4 > 3)
+  o.dynamic_ratio = 0;  // off
+  const FreeSpaceCarver no_dynamic(projector(), o);
+  EXPECT_FALSE(no_dynamic.removes(votes(0, 1, 9), false));
+  // With fewer keyframes than min_confirmations, all of them must confirm.
+  FreeSpaceCarver two(projector(), o);
+  two.addKeyframe(constantDepth(2.0), CPose3D());
+  two.addKeyframe(constantDepth(2.0), CPose3D());
+  EXPECT_FALSE(two.removes(votes(0, 2, 0)));
+  EXPECT_TRUE(two.removes(votes(0, 1, 0)));
+}
+
+TEST(FreeSpaceCarver, PersonMissedByTwoMasksIsOutvotedByTheOtherTwo) {
+  // A fixed camera watches a person standing 1.5 m in front of a wall at
+  // 3 m, in four keyframes: no keyframe ever sees the wall behind him, so
+  // free space cannot remove him. Keyframes 0 and 1 missed him (no mask),
+  // keyframes 2 and 3 masked him. A false mask on the wall in keyframe 3
+  // must not remove the wall that the other three confirm.
+  const cv::Rect person(60, 30, 20, 50), false_alarm(10, 10, 20, 20);
+  cv::Mat depth = constantDepth(3.0);
+  depth(person).setTo(std::lround(1.5 * kScale));
+  cv::Mat masked(kH, kW, CV_8UC1, cv::Scalar(0)), no_mask = masked.clone();
+  masked(person).setTo(255);
+  cv::Mat masked_and_false = masked.clone();
+  masked_and_false(false_alarm).setTo(255);
+  FreeSpaceCarvingOptions o;
+  o.min_confirmations = 0;  // only the dynamic votes here
+  FreeSpaceCarver carver(projector(), o), free_space_only(projector(), freeSpaceOnly());
+  for (const cv::Mat* m : {&no_mask, &no_mask, &masked, &masked_and_false}) {
+    carver.addKeyframe(depth, CPose3D(), *m);
+    free_space_only.addKeyframe(depth, CPose3D(), *m);
+  }
+  const CPose3D id;
+  ColoredCloud him, wall;
+  for (int v = person.y; v < person.br().y; v += 5) {
+    for (int u = person.x; u < person.br().x; u += 5) him.push_back(point(pixelPoint(id, u, v, 1.5)));
+  }
+  for (int v = false_alarm.y; v < false_alarm.br().y; v += 5) {
+    for (int u = false_alarm.x; u < false_alarm.br().x; u += 5) {
+      wall.push_back(point(pixelPoint(id, u, v, 3.0)));
+    }
+  }
+  for (const auto& v : carver.votes(him)) {
+    EXPECT_EQ(v.confirmed, 2);
+    EXPECT_EQ(v.dynamic, 2);
+    EXPECT_EQ(v.through, 0);
+  }
+  EXPECT_EQ(kept(carver, him), 0u);
+  EXPECT_EQ(kept(free_space_only, him), him.size());
+  EXPECT_EQ(kept(carver, wall), wall.size());
 }
 
 TEST(FreeSpaceCarver, ProjectionInvertsTheBackProjectorDistortion) {
@@ -373,7 +456,7 @@ TEST(FreeSpaceScene, PersonInOneKeyframeIsCarvedWallAndBoxSurvive) {
   ASSERT_EQ(s.person.size(), std::size_t(kPerson.area()));
   ASSERT_GT(s.box.size(), 3000u);  // ~30x30 px of box in each of 10 views
   ASSERT_GT(s.wall.size(), 100000u);
-  FreeSpaceCarver carver(projector());
+  FreeSpaceCarver carver(projector(), freeSpaceOnly());
   for (std::size_t k = 0; k < poses.size(); ++k) {
     carver.addKeyframe(renderFrame(poses[k], k == 0).depth, poses[k]);
   }
@@ -390,13 +473,29 @@ TEST(FreeSpaceScene, PersonInOneKeyframeIsCarvedWallAndBoxSurvive) {
   EXPECT_EQ(kept(carver, behind_box), behind_box.size());
 }
 
+TEST(FreeSpaceScene, DefaultRulesCarveThePersonAndKeepMostOfTheScene) {
+  // With the default rules (free space, dynamic votes, 3 confirmations),
+  // the wall's fringe that fewer than 3 of the 10 keyframes see goes too,
+  // (about 4 % of it here, 3 % of the box).
+  const auto poses = scenePoses();
+  const ScenePoints s = scenePoints(poses);
+  FreeSpaceCarver carver(projector());
+  for (std::size_t k = 0; k < poses.size(); ++k) {
+    carver.addKeyframe(renderFrame(poses[k], k == 0).depth, poses[k]);
+  }
+  EXPECT_EQ(kept(carver, s.person), 0u);
+  EXPECT_GE(kept(carver, s.wall), 0.94 * s.wall.size());
+  EXPECT_LT(kept(carver, s.wall), 0.99 * s.wall.size());
+  EXPECT_GE(kept(carver, s.box), 0.95 * s.box.size());
+}
+
 TEST(FreeSpaceScene, SmallPoseErrorsKeepObjectRimsOnlyWithTheWindow) {
   // The carver gets poses off by +-1.5 px (as SLAM poses and depth timing
   // are): rims of the box then project onto the wall beside it in other
   // keyframes. The 5x5 minimum keeps them; a 1-pixel window carves them.
   const auto poses = scenePoses();
   const ScenePoints s = scenePoints(poses);
-  FreeSpaceCarvingOptions windowed, naive;
+  FreeSpaceCarvingOptions windowed = freeSpaceOnly(), naive = freeSpaceOnly();
   naive.window_px = 1;
   FreeSpaceCarver a(projector(), windowed), b(projector(), naive);
   for (std::size_t k = 0; k < poses.size(); ++k) {
@@ -415,6 +514,7 @@ TEST(FreeSpaceScene, DenseMapBuilderCarvesAfterTheVoxelGrid) {
   const auto poses = scenePoses();
   DenseMapOptions o;
   o.remove_outliers = false;  // only carving removes points
+  o.carving = freeSpaceOnly();
   DenseMapOptions off = o;
   off.carving.enabled = false;
   DenseMapBuilder with(testCamera(), o), without(testCamera(), off);
@@ -518,6 +618,7 @@ TEST(ExportCarving, WalkerShareDropsToZeroAndTheReportCountsCarvedPoints) {
   o.voxel_leaf = 0;
   o.remove_outliers = false;
   o.projection.mask_margin_px = 0;
+  o.carving = freeSpaceOnly();
   DenseMapOptions off = o;
   off.carving.enabled = false;
   const RunDirectory run = readRunDirectory(dir / "run");
@@ -562,7 +663,7 @@ TEST(CarvingConfig, DefaultsMatchTheDocumentedConfigFile) {
        {"min_depth", "max_depth", "pixel_stride", "mask_margin_px", "voxel_leaf",
         "remove_outliers", "outlier_neighbours", "outlier_stddev", "carve_free_space",
         "carve_min_views", "carve_ratio", "carve_margin_m", "carve_margin_rel",
-        "carve_window_px"}) {
+        "carve_dynamic_ratio", "carve_min_confirmations", "carve_window_px"}) {
     EXPECT_TRUE(yaml["map_export"].has(key)) << key << " undocumented in " << path;
   }
   const DenseMapOptions file = loadDenseMapOptions(path);
@@ -573,6 +674,8 @@ TEST(CarvingConfig, DefaultsMatchTheDocumentedConfigFile) {
   EXPECT_DOUBLE_EQ(file.carving.margin_m, code.carving.margin_m);
   EXPECT_DOUBLE_EQ(file.carving.margin_rel, code.carving.margin_rel);
   EXPECT_EQ(file.carving.window_px, code.carving.window_px);
+  EXPECT_DOUBLE_EQ(file.carving.dynamic_ratio, code.carving.dynamic_ratio);
+  EXPECT_EQ(file.carving.min_confirmations, code.carving.min_confirmations);
   EXPECT_DOUBLE_EQ(file.voxel_leaf, code.voxel_leaf);
   EXPECT_EQ(file.remove_outliers, code.remove_outliers);
   EXPECT_EQ(file.outlier_neighbours, code.outlier_neighbours);
@@ -588,7 +691,8 @@ TEST(CarvingConfig, ValuesAreReadAndBadOnesRejectedNamingTheFile) {
   const std::string path = dir / "cfg.yaml";
   writeText(path,
             "map_export:\n  carve_free_space: false\n  carve_min_views: 4\n  carve_ratio: 2.5\n"
-            "  carve_margin_m: 0.08\n  carve_margin_rel: 0.04\n  carve_window_px: 7\n");
+            "  carve_margin_m: 0.08\n  carve_margin_rel: 0.04\n  carve_window_px: 7\n"
+            "  carve_dynamic_ratio: 0.5\n  carve_min_confirmations: 2\n");
   const DenseMapOptions o = loadDenseMapOptions(path);
   EXPECT_FALSE(o.carving.enabled);
   EXPECT_EQ(o.carving.min_views, 4);
@@ -596,6 +700,8 @@ TEST(CarvingConfig, ValuesAreReadAndBadOnesRejectedNamingTheFile) {
   EXPECT_DOUBLE_EQ(o.carving.margin_m, 0.08);
   EXPECT_DOUBLE_EQ(o.carving.margin_rel, 0.04);
   EXPECT_EQ(o.carving.window_px, 7);
+  EXPECT_DOUBLE_EQ(o.carving.dynamic_ratio, 0.5);
+  EXPECT_EQ(o.carving.min_confirmations, 2);
 
   const std::vector<std::pair<std::string, std::string>> bad = {
       {"carve_free_space", "maybe"}, {"carve_free_space", "1"},
@@ -607,6 +713,9 @@ TEST(CarvingConfig, ValuesAreReadAndBadOnesRejectedNamingTheFile) {
       {"carve_margin_rel", "-0.01"}, {"carve_margin_rel", "0.9"},
       {"carve_window_px", "0"},      {"carve_window_px", "4"},
       {"carve_window_px", "33"},     {"carve_window_px", "5.5"},
+      {"carve_dynamic_ratio", "-1"}, {"carve_dynamic_ratio", ".inf"},
+      {"carve_dynamic_ratio", "x"},  {"carve_min_confirmations", "-1"},
+      {"carve_min_confirmations", "1001"}, {"carve_min_confirmations", "1.5"},
       {"carve_windows_px", "5"},  // typo: unknown key
   };
   for (const auto& [key, value] : bad) {
@@ -661,14 +770,17 @@ TEST(ExportCli, NoCarvingFlagKeepsTheWalkers) {
   const auto on = test::runDynslam({"export", dir / "run", "-o", dir / "on.ply", "--voxel", "0",
                                     "--no-outlier-removal", "--mask-margin", "0"});
   ASSERT_EQ(on.exit_code, 0) << on.output;
-  EXPECT_NE(on.output.find("240 carved"), std::string::npos) << on.output;
+  // The default rules carve the 240 walker points and the 480 wall points
+  // behind the walkers: each of those is confirmed by only the two keyframes
+  // that saw it (3 are required).
+  EXPECT_NE(on.output.find("720 carved"), std::string::npos) << on.output;
   EXPECT_NE(on.output.find("walker_mask_share 0.0000 %"), std::string::npos) << on.output;
   const auto off = test::runDynslam({"export", dir / "run", "-o", dir / "off.ply", "--voxel", "0",
                                      "--no-outlier-removal", "--mask-margin", "0", "--no-carving"});
   ASSERT_EQ(off.exit_code, 0) << off.output;
   EXPECT_NE(off.output.find("0 carved"), std::string::npos) << off.output;
   EXPECT_EQ(readPly(dir / "off.ply").size(), std::size_t(3 * kW * kH));
-  EXPECT_EQ(readPly(dir / "on.ply").size(), std::size_t(3 * kW * kH - 240));
+  EXPECT_EQ(readPly(dir / "on.ply").size(), std::size_t(3 * kW * kH - 720));
   // Without --config the run's own config (run_info.yaml's config:) sets the
   // parameters; an explicit --config wins over it.
   writeText(dir / "runcfg.yaml", "map_export:\n  carve_free_space: false\n");
@@ -684,14 +796,21 @@ TEST(ExportCli, NoCarvingFlagKeepsTheWalkers) {
       test::runDynslam({"export", dir / "run", "-o", dir / "explicit.ply", "--voxel", "0",
                         "--no-outlier-removal", "--mask-margin", "0", "--config", dir / "carve.yaml"});
   ASSERT_EQ(explicit_cfg.exit_code, 0) << explicit_cfg.output;
-  EXPECT_EQ(readPly(dir / "explicit.ply").size(), std::size_t(3 * kW * kH - 240));
+  EXPECT_EQ(readPly(dir / "explicit.ply").size(), std::size_t(3 * kW * kH - 720));
   // A run config that no longer exists: the built-in defaults (carving on).
   writeText(dir / "run/run_info.yaml", "input: " + seq + "\ncamera_config: " + (dir / "cam.yaml") +
                                            "\nconfig: " + (dir / "gone.yaml") + "\n");
   const auto gone = test::runDynslam({"export", dir / "run", "-o", dir / "gone.ply", "--voxel",
                                       "0", "--no-outlier-removal", "--mask-margin", "0"});
   ASSERT_EQ(gone.exit_code, 0) << gone.output;
-  EXPECT_EQ(readPly(dir / "gone.ply").size(), std::size_t(3 * kW * kH - 240));
+  EXPECT_EQ(readPly(dir / "gone.ply").size(), std::size_t(3 * kW * kH - 720));
+  // The confirmation count switched off: only the walkers go.
+  writeText(dir / "noconf.yaml", "map_export:\n  carve_min_confirmations: 0\n");
+  const auto noconf =
+      test::runDynslam({"export", dir / "run", "-o", dir / "noconf.ply", "--voxel", "0",
+                        "--no-outlier-removal", "--mask-margin", "0", "--config", dir / "noconf.yaml"});
+  ASSERT_EQ(noconf.exit_code, 0) << noconf.output;
+  EXPECT_EQ(readPly(dir / "noconf.ply").size(), std::size_t(3 * kW * kH - 240));
   // A bad carving value in --config fails before any work, naming the file.
   writeText(dir / "bad.yaml", "map_export:\n  carve_ratio: -1\n");
   const auto bad = test::runDynslam({"export", dir / "run", "-o", dir / "bad.ply", "--config",
