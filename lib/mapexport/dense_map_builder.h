@@ -6,10 +6,11 @@
 // Memory stays bounded for long runs: every keyframe is voxel-downsampled as
 // it is added and the accumulated cloud is re-voxelised whenever it grows
 // past `compact_threshold` points; build() does the final voxel pass,
-// free-space carving (free_space_carver.h: drops what other keyframes see
-// through, i.e. people the dynamic masks missed) and the statistical outlier
-// removal. For carving, each keyframe's depth is kept reduced (~0.46 MB for
-// 640x480), so the images are read only once.
+// carving (free_space_carver.h: drops what other keyframes see through, what
+// their dynamic masks outvote and what too few keyframes confirm, i.e.
+// people the dynamic masks missed) and the statistical outlier removal. For
+// carving, each keyframe's depth is kept reduced (~0.77 MB for 640x480), so
+// the images are read only once.
 #include <cstddef>
 #include <memory>
 #include <optional>

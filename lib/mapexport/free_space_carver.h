@@ -41,8 +41,8 @@
 // only min_confirmations can remove anything.
 //
 // Cost: keyframes keep their depth reduced to 2x2 cells (per cell: the
-// window minimum, and the min/max of the confirming depths; 6 bytes, so
-// ~0.46 MB for 640x480). The window is thus rounded up to whole cells
+// window minimum, and the min/max of the confirming depths and of the
+// masked ones; 10 bytes, so ~0.77 MB for 640x480). The window is thus rounded up to whole cells
 // (5x5 px becomes at most 6x6: more conservative, never less). Points are
 // grouped in 25 cm blocks; a block is only projected into the keyframes
 // whose view frustum its bounding sphere touches. Blocks are voted in
