@@ -791,12 +791,17 @@ TEST(ExportCli, NoCarvingFlagKeepsTheWalkers) {
   ASSERT_EQ(from_run.exit_code, 0) << from_run.output;
   EXPECT_NE(from_run.output.find("runcfg.yaml"), std::string::npos) << from_run.output;
   EXPECT_EQ(readPly(dir / "run.ply").size(), std::size_t(3 * kW * kH));
-  writeText(dir / "carve.yaml", "map_export:\n  carve_free_space: true\n");
-  const auto explicit_cfg =
-      test::runDynslam({"export", dir / "run", "-o", dir / "explicit.ply", "--voxel", "0",
-                        "--no-outlier-removal", "--mask-margin", "0", "--config", dir / "carve.yaml"});
-  ASSERT_EQ(explicit_cfg.exit_code, 0) << explicit_cfg.output;
-  EXPECT_EQ(readPly(dir / "explicit.ply").size(), std::size_t(3 * kW * kH - 720));
+  // Exports with `--config NAME.yaml` holding `yaml`; returns the map's size.
+  auto pointsWithConfig = [&](const std::string& name, const std::string& yaml) {
+    writeText(dir / (name + ".yaml"), yaml);
+    const auto r = test::runDynslam({"export", dir / "run", "-o", dir / (name + ".ply"), "--voxel",
+                                     "0", "--no-outlier-removal", "--mask-margin", "0",
+                                     "--config", dir / (name + ".yaml")});
+    EXPECT_EQ(r.exit_code, 0) << r.output;
+    return readPly(dir / (name + ".ply")).size();
+  };
+  EXPECT_EQ(pointsWithConfig("carve", "map_export:\n  carve_free_space: true\n"),
+            std::size_t(3 * kW * kH - 720));
   // A run config that no longer exists: the built-in defaults (carving on).
   writeText(dir / "run/run_info.yaml", "input: " + seq + "\ncamera_config: " + (dir / "cam.yaml") +
                                            "\nconfig: " + (dir / "gone.yaml") + "\n");
@@ -805,12 +810,8 @@ TEST(ExportCli, NoCarvingFlagKeepsTheWalkers) {
   ASSERT_EQ(gone.exit_code, 0) << gone.output;
   EXPECT_EQ(readPly(dir / "gone.ply").size(), std::size_t(3 * kW * kH - 720));
   // The confirmation count switched off: only the walkers go.
-  writeText(dir / "noconf.yaml", "map_export:\n  carve_min_confirmations: 0\n");
-  const auto noconf =
-      test::runDynslam({"export", dir / "run", "-o", dir / "noconf.ply", "--voxel", "0",
-                        "--no-outlier-removal", "--mask-margin", "0", "--config", dir / "noconf.yaml"});
-  ASSERT_EQ(noconf.exit_code, 0) << noconf.output;
-  EXPECT_EQ(readPly(dir / "noconf.ply").size(), std::size_t(3 * kW * kH - 240));
+  EXPECT_EQ(pointsWithConfig("noconf", "map_export:\n  carve_min_confirmations: 0\n"),
+            std::size_t(3 * kW * kH - 240));
   // A bad carving value in --config fails before any work, naming the file.
   writeText(dir / "bad.yaml", "map_export:\n  carve_ratio: -1\n");
   const auto bad = test::runDynslam({"export", dir / "run", "-o", dir / "bad.ply", "--config",
