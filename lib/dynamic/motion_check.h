@@ -122,7 +122,7 @@ struct MotionCheckParams {
   /// With carve_static: region pixels farther than this (px) from every
   /// moving or carried point are cut (regions leak along floors, desks and
   /// walls the person touches); 0 = no limit.
-  float max_seed_distance_px = 40.f;
+  float max_seed_distance_px = 80.f;
   /// Region growing and carving run on a grid this many times coarser than
   /// the image (2: 4x cheaper; the mask is upsampled to full size).
   int mask_downsample = 2;
