@@ -29,8 +29,9 @@ LoopClosing::LoopClosing(Map& map, LocalMapper& mapper,
       p_(params),
       db_(voc_->words()),
       corrector_(map, params.corrector),
-      threaded_(threaded) {
-  if (threaded_ && p_.close_loops) thread_ = std::thread([this] { run(); });
+      threaded_(threaded),
+      queue_([this](KeyFrame* kf) { process(kf); }, threaded && params.close_loops) {
+  queue_.start();
 }
 
 LoopClosing::~LoopClosing() { stop(); }
@@ -56,11 +57,7 @@ void LoopClosing::keyFrameMapped(KeyFrame* kf) {
     process(kf);
     return;
   }
-  {
-    std::lock_guard<std::mutex> lk(queue_mutex_);
-    queue_.push_back(kf);
-  }
-  cv_.notify_all();
+  queue_.push(kf);
 }
 
 void LoopClosing::keyFrameCulled(KeyFrame* kf) { db_.erase(kf); }
@@ -75,40 +72,9 @@ std::vector<KeyFrame*> LoopClosing::relocalisationCandidates(const FeatureSet& f
   return out;
 }
 
-void LoopClosing::run() {
-  for (;;) {
-    KeyFrame* kf = nullptr;
-    {
-      std::unique_lock<std::mutex> lk(queue_mutex_);
-      cv_.wait(lk, [&] { return stop_ || !queue_.empty(); });
-      if (queue_.empty()) return;
-      kf = queue_.front();
-      queue_.pop_front();
-      busy_ = true;
-    }
-    process(kf);
-    {
-      std::lock_guard<std::mutex> lk(queue_mutex_);
-      busy_ = false;
-    }
-    cv_.notify_all();
-  }
-}
+void LoopClosing::flush() { queue_.flush(); }
 
-void LoopClosing::flush() {
-  if (!threaded_) return;
-  std::unique_lock<std::mutex> lk(queue_mutex_);
-  cv_.wait(lk, [&] { return queue_.empty() && !busy_; });
-}
-
-void LoopClosing::stop() {
-  {
-    std::lock_guard<std::mutex> lk(queue_mutex_);
-    stop_ = true;
-  }
-  cv_.notify_all();
-  if (thread_.joinable()) thread_.join();
-}
+void LoopClosing::stop() { queue_.stop(); }
 
 LoopClosingStats LoopClosing::stats() const {
   std::lock_guard<std::mutex> lk(stats_mutex_);

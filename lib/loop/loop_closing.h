@@ -8,15 +8,13 @@
 // LoopCorrector (fusion and essential-graph optimisation on MRPT graph-SLAM),
 // optionally followed by a global bundle adjustment. The local mapper is
 // paused while the map is corrected.
-#include <condition_variable>
-#include <deque>
 #include <memory>
 #include <mutex>
 #include <set>
 #include <string>
-#include <thread>
 #include <vector>
 
+#include "core/work_queue.h"
 #include "loop/loop_corrector.h"
 #include "loop/rigid_aligner.h"
 #include "mapping/local_mapper.h"
@@ -69,7 +67,6 @@ class LoopClosing : public MappedKeyFrameListener, public RelocalisationCandidat
   LoopClosingStats stats() const;
 
  private:
-  void run();
   void process(KeyFrame* kf);
   /// Keyframes of a place seen consistently by consecutive keyframes.
   std::vector<KeyFrame*> consistentCandidates(KeyFrame* kf, const BowVector& bow);
@@ -87,14 +84,10 @@ class LoopClosing : public MappedKeyFrameListener, public RelocalisationCandidat
   std::vector<std::pair<std::set<KeyFrame*>, int>> groups_;  ///< previous keyframe's candidate groups
   long last_loop_kf_ = -1000000;
 
-  mutable std::mutex queue_mutex_;
-  std::condition_variable cv_;
-  std::deque<KeyFrame*> queue_;
-  bool busy_ = false, stop_ = false;
-  std::thread thread_;
-
   mutable std::mutex stats_mutex_;
   LoopClosingStats stats_;
+  // Last member: destroyed (its thread joined) before the state it uses.
+  WorkQueue<KeyFrame*> queue_;
 };
 
 }  // namespace dynslam::loop

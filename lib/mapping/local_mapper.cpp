@@ -23,97 +23,38 @@ double msSince(std::chrono::steady_clock::time_point t0) {
 }  // namespace
 
 LocalMapper::LocalMapper(Map& map, const LocalMapperParams& params, bool threaded)
-    : map_(map), p_(params), threaded_(threaded) {
-  if (threaded_) thread_ = std::thread([this] { run(); });
+    : map_(map),
+      p_(params),
+      threaded_(threaded),
+      queue_([this](KeyFrame* kf) { processKeyFrame(kf); }, threaded) {
+  queue_.start();
 }
 
 LocalMapper::~LocalMapper() { stop(); }
 
-void LocalMapper::stop() {
-  if (!threaded_) return;
-  {
-    std::lock_guard<std::mutex> lk(queue_mutex_);
-    stop_ = true;
-  }
-  cv_.notify_all();
-  if (thread_.joinable()) thread_.join();
-}
+void LocalMapper::stop() { queue_.stop(); }
 
-void LocalMapper::insertKeyFrame(KeyFrame* kf) {
-  {
-    std::lock_guard<std::mutex> lk(queue_mutex_);
-    queue_.push_back(kf);
-  }
-  cv_.notify_all();
-}
+void LocalMapper::insertKeyFrame(KeyFrame* kf) { queue_.push(kf); }
 
 bool LocalMapper::idle() const {
   if (!threaded_) return true;  // synchronous: always ready after processPending()
-  std::lock_guard<std::mutex> lk(queue_mutex_);
-  return queue_.empty() && !busy_;
+  return queue_.idle();
 }
 
-std::size_t LocalMapper::queued() const {
-  std::lock_guard<std::mutex> lk(queue_mutex_);
-  return queue_.size();
-}
+std::size_t LocalMapper::queued() const { return queue_.size(); }
 
 void LocalMapper::processPending() {
-  for (;;) {
-    KeyFrame* kf = nullptr;
-    {
-      std::lock_guard<std::mutex> lk(queue_mutex_);
-      if (queue_.empty()) return;
-      kf = queue_.front();
-      queue_.pop_front();
-    }
-    processKeyFrame(kf);
-  }
+  KeyFrame* kf = nullptr;
+  while (queue_.tryPop(kf)) processKeyFrame(kf);
 }
 
-void LocalMapper::pause() {
-  if (!threaded_) return;
-  std::unique_lock<std::mutex> lk(queue_mutex_);
-  ++pause_requests_;
-  cv_.wait(lk, [&] { return !busy_; });
-}
+void LocalMapper::pause() { queue_.pause(); }
 
-void LocalMapper::resume() {
-  if (!threaded_) return;
-  {
-    std::lock_guard<std::mutex> lk(queue_mutex_);
-    if (pause_requests_ > 0) --pause_requests_;
-  }
-  cv_.notify_all();
-}
-
-void LocalMapper::run() {
-  for (;;) {
-    KeyFrame* kf = nullptr;
-    {
-      std::unique_lock<std::mutex> lk(queue_mutex_);
-      cv_.wait(lk, [&] { return stop_ || (!queue_.empty() && pause_requests_ == 0); });
-      if (queue_.empty()) return;  // stop requested and nothing left
-      kf = queue_.front();
-      queue_.pop_front();
-      busy_ = true;
-    }
-    processKeyFrame(kf);
-    {
-      std::lock_guard<std::mutex> lk(queue_mutex_);
-      busy_ = false;
-    }
-    cv_.notify_all();
-  }
-}
+void LocalMapper::resume() { queue_.resume(); }
 
 void LocalMapper::flush() {
-  if (!threaded_) {
-    processPending();
-    return;
-  }
-  std::unique_lock<std::mutex> lk(queue_mutex_);
-  cv_.wait(lk, [&] { return queue_.empty() && !busy_; });
+  if (!threaded_) processPending();
+  queue_.flush();
 }
 
 LocalMapper::Stats LocalMapper::stats() const {
@@ -130,11 +71,7 @@ void LocalMapper::processKeyFrame(KeyFrame* kf) {
     createNewPoints(kf);
     fuseWithNeighbours(kf);
   }
-  bool more_waiting;
-  {
-    std::lock_guard<std::mutex> lk(queue_mutex_);
-    more_waiting = !queue_.empty();
-  }
+  const bool more_waiting = queue_.size() > 0;
   // Like ORB-SLAM, skip BA and culling when keyframes are piling up: the next
   // keyframe's BA covers this window anyway.
   if (!more_waiting || !p_.skip_ba_when_busy) {

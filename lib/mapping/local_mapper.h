@@ -5,13 +5,10 @@
 // (outer keyframes fixed), and culling of weak points and redundant
 // keyframes. Runs in its own thread, or synchronously (deterministic mode:
 // the same input gives the same trajectory).
-#include <atomic>
-#include <condition_variable>
-#include <deque>
 #include <list>
 #include <mutex>
-#include <thread>
 
+#include "core/work_queue.h"
 #include "map/map.h"
 #include "matching/feature_matcher.h"
 #include "optim/bundle_adjuster.h"
@@ -82,7 +79,6 @@ class LocalMapper : public KeyFrameSink {
   Stats stats() const;
 
  private:
-  void run();
   void processKeyFrame(KeyFrame* kf);
   void addObservations(KeyFrame* kf);
   void cullRecentPoints(KeyFrame* kf);
@@ -96,17 +92,12 @@ class LocalMapper : public KeyFrameSink {
   FeatureMatcher matcher_;
   std::list<MapPoint*> recent_points_;
 
-  mutable std::mutex queue_mutex_;
-  std::condition_variable cv_;
-  std::deque<KeyFrame*> queue_;
-  std::atomic<bool> busy_{false};
-  std::atomic<bool> stop_{false};
-  int pause_requests_ = 0;
   MappedKeyFrameListener* listener_ = nullptr;
   bool threaded_;
-  std::thread thread_;
   mutable std::mutex stats_mutex_;
   Stats stats_;
+  // Last member: destroyed (its thread joined) before the state it uses.
+  WorkQueue<KeyFrame*> queue_;
 };
 
 }  // namespace dynslam

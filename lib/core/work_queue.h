@@ -1,0 +1,134 @@
+#pragma once
+// A FIFO of work items handled one at a time, in order, by one background
+// thread: the shape both keyframe consumers (LocalMapper, LoopClosing) need.
+//
+// Why one class: the waiting rules are easy to get subtly wrong (a flush that
+// returns while the last item is still being handled, a stop that drops
+// queued keyframes), so they live here once:
+//   - flush() returns when the queue is empty *and* no item is in progress;
+//   - pause() holds the worker after its current item and returns once that
+//     item is done (loop correction needs the map to itself); items pushed
+//     meanwhile wait until resume(); pauses nest;
+//   - stop() lets the worker handle what is queued, then joins it.
+// Without a thread (threaded = false: deterministic runs) nothing runs by
+// itself; the owner drains the queue with tryPop().
+#include <condition_variable>
+#include <cstddef>
+#include <deque>
+#include <functional>
+#include <mutex>
+#include <thread>
+#include <utility>
+
+namespace dynslam {
+
+template <typename T>
+class WorkQueue {
+ public:
+  /// handler: called in the worker thread for each item (threaded only).
+  WorkQueue(std::function<void(T)> handler, bool threaded)
+      : handler_(std::move(handler)), threaded_(threaded) {}
+  ~WorkQueue() { stop(); }
+  WorkQueue(const WorkQueue&) = delete;
+  WorkQueue& operator=(const WorkQueue&) = delete;
+
+  /// Starts the worker (threaded only). Call once the handler's owner is
+  /// fully constructed.
+  void start() {
+    if (threaded_ && !thread_.joinable()) thread_ = std::thread([this] { run(); });
+  }
+
+  void push(T item) {
+    {
+      std::lock_guard<std::mutex> lk(mutex_);
+      queue_.push_back(std::move(item));
+    }
+    cv_.notify_all();
+  }
+
+  /// Takes the oldest item; false when the queue is empty.
+  bool tryPop(T& item) {
+    std::lock_guard<std::mutex> lk(mutex_);
+    if (queue_.empty()) return false;
+    item = std::move(queue_.front());
+    queue_.pop_front();
+    return true;
+  }
+
+  std::size_t size() const {
+    std::lock_guard<std::mutex> lk(mutex_);
+    return queue_.size();
+  }
+
+  /// Nothing queued and no item in progress.
+  bool idle() const {
+    std::lock_guard<std::mutex> lk(mutex_);
+    return queue_.empty() && !busy_;
+  }
+
+  /// Waits until idle() (threaded only; returns at once otherwise).
+  void flush() {
+    if (!threaded_) return;
+    std::unique_lock<std::mutex> lk(mutex_);
+    cv_.wait(lk, [&] { return queue_.empty() && !busy_; });
+  }
+
+  void pause() {
+    if (!threaded_) return;
+    std::unique_lock<std::mutex> lk(mutex_);
+    ++pause_requests_;
+    cv_.wait(lk, [&] { return !busy_; });
+  }
+
+  void resume() {
+    if (!threaded_) return;
+    {
+      std::lock_guard<std::mutex> lk(mutex_);
+      if (pause_requests_ > 0) --pause_requests_;
+    }
+    cv_.notify_all();
+  }
+
+  /// Handles what is queued (even while paused), then joins the worker.
+  void stop() {
+    {
+      std::lock_guard<std::mutex> lk(mutex_);
+      stop_ = true;
+    }
+    cv_.notify_all();
+    if (thread_.joinable()) thread_.join();
+  }
+
+ private:
+  void run() {
+    for (;;) {
+      T item;
+      {
+        std::unique_lock<std::mutex> lk(mutex_);
+        cv_.wait(lk, [&] { return stop_ || (!queue_.empty() && pause_requests_ == 0); });
+        if (queue_.empty()) return;  // stop requested and nothing left
+        item = std::move(queue_.front());
+        queue_.pop_front();
+        busy_ = true;
+      }
+      handler_(std::move(item));
+      {
+        std::lock_guard<std::mutex> lk(mutex_);
+        busy_ = false;
+      }
+      cv_.notify_all();
+    }
+  }
+
+  std::function<void(T)> handler_;
+  bool threaded_;
+  mutable std::mutex mutex_;
+  std::condition_variable cv_;
+  std::deque<T> queue_;
+  bool busy_ = false;
+  bool stop_ = false;
+  int pause_requests_ = 0;
+  std::thread thread_;
+};
+
+}  // namespace dynslam
