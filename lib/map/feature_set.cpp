@@ -35,6 +35,15 @@ double depthAt(const cv::Mat& depth_raw, const cv::Point2f& pt, int window, doub
 
 std::vector<int> FeatureSet::featuresInArea(float x, float y, float r, int min_level,
                                             int max_level) const {
+  return inArea(grid, x, y, r, min_level, max_level);
+}
+
+std::vector<int> FeatureSet::dynamicFeaturesInArea(float x, float y, float r) const {
+  return inArea(dynamic_grid, x, y, r, -1, -1);
+}
+
+std::vector<int> FeatureSet::inArea(const std::vector<std::vector<int>>& cells, float x, float y,
+                                    float r, int min_level, int max_level) const {
   std::vector<int> out;
   const FrameContext& c = *ctx;
   const int x0 = std::max(0, static_cast<int>(std::floor((x - c.min_x - r) * c.grid_inv_w)));
@@ -44,7 +53,7 @@ std::vector<int> FeatureSet::featuresInArea(float x, float y, float r, int min_l
   if (x0 >= c.grid_cols || x1 < 0 || y0 >= c.grid_rows || y1 < 0) return out;
   for (int gx = x0; gx <= x1; ++gx) {
     for (int gy = y0; gy <= y1; ++gy) {
-      for (int i : grid[gx * c.grid_rows + gy]) {
+      for (int i : cells[gx * c.grid_rows + gy]) {
         const cv::KeyPoint& k = keys_un[i];
         if (min_level >= 0 && k.octave < min_level) continue;
         if (max_level >= 0 && k.octave > max_level) continue;
@@ -115,11 +124,11 @@ void FeatureSet::finalize(const cv::Mat& depth_raw, const cv::Mat& rgb,
     ur[i] = static_cast<float>(keys_un[i].pt.x - c.proj.bf / d);
   }
   grid.assign(static_cast<std::size_t>(c.grid_cols * c.grid_rows), {});
+  dynamic_grid.assign(grid.size(), {});
   for (std::size_t i = 0; i < n; ++i) {
-    if (dynamic[i]) continue;
     int gx, gy;
     if (c.cellOf(keys_un[i].pt.x, keys_un[i].pt.y, gx, gy))
-      grid[gx * c.grid_rows + gy].push_back(static_cast<int>(i));
+      (dynamic[i] ? dynamic_grid : grid)[gx * c.grid_rows + gy].push_back(static_cast<int>(i));
   }
 }
 

@@ -29,6 +29,9 @@ struct FeatureSet {
   std::vector<cv::Vec3b> colors;      ///< BGR at each keypoint (for map exports)
   /// Keypoint indices per grid cell (static keypoints only).
   std::vector<std::vector<int>> grid;
+  /// The same for the dynamic keypoints (the tracker looks for map points
+  /// that land on them, to cull points on movers).
+  std::vector<std::vector<int>> dynamic_grid;
 
   std::size_t size() const { return keys.size(); }
   const uint8_t* descriptor(std::size_t i) const { return descriptors.ptr<uint8_t>(static_cast<int>(i)); }
@@ -36,12 +39,14 @@ struct FeatureSet {
   /// lies in [min_level, max_level] (-1: no bound).
   std::vector<int> featuresInArea(float x, float y, float r, int min_level = -1,
                                   int max_level = -1) const;
+  /// Dynamic keypoints within radius r (square window) of (x, y).
+  std::vector<int> dynamicFeaturesInArea(float x, float y, float r) const;
   /// Camera-frame 3D point of keypoint i from its depth (requires depth > 0).
   Eigen::Vector3d unprojectCamera(std::size_t i) const;
 
   /// Undistorts keys into keys_un, reads depth at each keypoint, sets ur and
-  /// builds the grid (dynamic keypoints are left out of the grid, so no
-  /// matcher ever sees them).
+  /// builds the grids (dynamic keypoints are left out of `grid`, so no
+  /// matcher ever sees them; they go to `dynamic_grid`).
   /// rgb (BGR, optional) gives the keypoint colours.
   /// rgb_from_depth (optional): the camera at the depth image's time seen from
   /// the camera at the RGB image's time. Depth and RGB of a Kinect-class
@@ -51,6 +56,10 @@ struct FeatureSet {
   /// back into the RGB camera.
   void finalize(const cv::Mat& depth_raw, const cv::Mat& rgb = cv::Mat(),
                 const mrpt::poses::CPose3D* rgb_from_depth = nullptr);
+
+ private:
+  std::vector<int> inArea(const std::vector<std::vector<int>>& cells, float x, float y, float r,
+                          int min_level, int max_level) const;
 };
 
 }  // namespace dynslam

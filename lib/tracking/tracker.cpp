@@ -391,10 +391,7 @@ void Tracker::searchLocalPoints() {
 
 void Tracker::cullPointsOnDynamicKeypoints() {
   const FeatureSet& f = cur_.f();
-  std::vector<int> dyn;
-  for (std::size_t i = 0; i < f.size(); ++i)
-    if (f.dynamic[i]) dyn.push_back(static_cast<int>(i));
-  if (dyn.empty()) return;
+  if (std::find(f.dynamic.begin(), f.dynamic.end(), uint8_t(1)) == f.dynamic.end()) return;
   const FrameContext& ctx = *f.ctx;
   int culled = 0;
   for (MapPoint* mp : local_points_) {
@@ -402,9 +399,7 @@ void Tracker::cullPointsOnDynamicKeypoints() {
     const float r = 2.0f * p_.local_search_radius * ctx.scale[std::max(0, mp->pred_level)];
     const uint8_t* d = mp->descriptor.ptr<uint8_t>();
     bool hit = false;
-    for (int j : dyn) {
-      const cv::Point2f& pt = f.keys_un[j].pt;
-      if (std::abs(pt.x - mp->proj_x) > r || std::abs(pt.y - mp->proj_y) > r) continue;
+    for (int j : f.dynamicFeaturesInArea(mp->proj_x, mp->proj_y, r)) {
       if (descriptorDistance(d, f.descriptor(j)) <= kDynamicMatchDistance) {
         hit = true;
         break;

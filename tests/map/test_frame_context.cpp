@@ -201,13 +201,18 @@ TEST(FeatureSet, DynamicKeypointsLeftOutOfGrid) {
   auto found = fs->featuresInArea(100, 100, 10);
   std::sort(found.begin(), found.end());
   EXPECT_EQ(found, (std::vector<int>{0, 2}));
-  std::size_t in_grid = 0;
+  std::size_t in_grid = 0, in_dynamic_grid = 0;
   for (const auto& cell : fs->grid) in_grid += cell.size();
+  for (const auto& cell : fs->dynamic_grid) in_dynamic_grid += cell.size();
   EXPECT_EQ(in_grid, 2u);
+  EXPECT_EQ(in_dynamic_grid, 1u);
+  EXPECT_EQ(fs->dynamicFeaturesInArea(100, 100, 10), (std::vector<int>{1}));
+  EXPECT_TRUE(fs->dynamicFeaturesInArea(200, 200, 10).empty());
   EXPECT_EQ(fs->dynamic, (std::vector<uint8_t>{0, 1, 0}));  // kept as given
 }
 
-// featuresInArea against a brute-force scan of the same keypoints.
+// featuresInArea and dynamicFeaturesInArea against a brute-force scan of the
+// same keypoints, a third of them dynamic.
 TEST(FeatureSet, FeaturesInAreaMatchesBruteForce) {
   auto fs = std::make_shared<FeatureSet>();
   fs->ctx = makeContext(ideal());
@@ -220,6 +225,8 @@ TEST(FeatureSet, FeaturesInAreaMatchesBruteForce) {
   fs->keys.push_back(kp(0.f, 0.f));
   fs->keys.push_back(kp(639.5f, 479.5f, 3));
   fs->descriptors = cv::Mat::zeros(static_cast<int>(fs->keys.size()), 32, CV_8UC1);
+  std::bernoulli_distribution third(1.0 / 3);
+  for (std::size_t i = 0; i < fs->keys.size(); ++i) fs->dynamic.push_back(third(rng) ? 1 : 0);
   fs->finalize(cv::Mat());
 
   struct Query { float x, y, r; int lo, hi; };
@@ -236,18 +243,25 @@ TEST(FeatureSet, FeaturesInAreaMatchesBruteForce) {
     queries.push_back({ux(rng), uy(rng), ur(rng), lo, hi});
   }
   for (const Query& q : queries) {
-    std::vector<int> expected;
+    std::vector<int> expected, expected_dynamic;
     for (std::size_t i = 0; i < fs->keys.size(); ++i) {
       const cv::KeyPoint& k = fs->keys[i];
+      if (!(std::abs(k.pt.x - q.x) < q.r && std::abs(k.pt.y - q.y) < q.r)) continue;
+      if (fs->dynamic[i]) {
+        expected_dynamic.push_back(static_cast<int>(i));
+        continue;
+      }
       if (q.lo >= 0 && k.octave < q.lo) continue;
       if (q.hi >= 0 && k.octave > q.hi) continue;
-      if (std::abs(k.pt.x - q.x) < q.r && std::abs(k.pt.y - q.y) < q.r)
-        expected.push_back(static_cast<int>(i));
+      expected.push_back(static_cast<int>(i));
     }
     auto got = fs->featuresInArea(q.x, q.y, q.r, q.lo, q.hi);
     std::sort(got.begin(), got.end());
     EXPECT_EQ(got, expected) << "query (" << q.x << ", " << q.y << ") r " << q.r << " levels "
                              << q.lo << ".." << q.hi;
+    auto got_dynamic = fs->dynamicFeaturesInArea(q.x, q.y, q.r);
+    std::sort(got_dynamic.begin(), got_dynamic.end());
+    EXPECT_EQ(got_dynamic, expected_dynamic) << "query (" << q.x << ", " << q.y << ") r " << q.r;
   }
 }
 
