@@ -5,6 +5,7 @@
 // without depending on each other.
 #include <opencv2/core.hpp>
 
+#include <cstddef>
 #include <vector>
 
 #include "core/rgbd_frame.h"
@@ -19,6 +20,10 @@ class ObservationPreprocessor {
   virtual void process(const RGBDFrame& frame, const cv::Mat& gray,
                        const std::vector<cv::KeyPoint>& keypoints,
                        std::vector<uint8_t>& dynamic) = 0;
+  /// After tracking the frame last given to process(): whether it got a
+  /// pose, and that pose (camera-to-world, 4x4). The default ignores it.
+  virtual void frameTracked(std::size_t /*index*/, bool /*has_pose*/,
+                            const cv::Matx44d& /*pose_wc*/) {}
 };
 
 }  // namespace dynslam

@@ -246,6 +246,38 @@ void DynamicFeatureFilter::process(const RGBDFrame& frame, const cv::Mat& gray,
   times_["total"].push_back(msSince(t_all));
 }
 
+void DynamicFeatureFilter::frameTracked(std::size_t index, bool has_pose,
+                                        const cv::Matx44d& pose_wc) {
+  const long f = long(index);
+  const FitCheck& fc = fit_check_;
+  if (p_.max_explained_moving < 1.0 && has_pose && tracked_frame_ == f - 1 && fc.frame == f &&
+      fc.xyz.size() >= 10) {
+    // How many of the moving points does the tracker's camera motion from
+    // the previous frame to this one explain?
+    const cv::Matx44d rel = pose_wc.inv() * tracked_pose_;
+    std::size_t explained = 0;
+    for (std::size_t k = 0; k < fc.xyz.size(); ++k) {
+      const cv::Vec4d X = rel * cv::Vec4d(fc.xyz[k].x, fc.xyz[k].y, fc.xyz[k].z, 1.0);
+      if (X[2] <= 1e-6) continue;
+      const double u = camera_.fx * X[0] / X[2] + camera_.cx;
+      const double v = camera_.fy * X[1] / X[2] + camera_.cy;
+      explained += std::hypot(u - fc.px[k].x, v - fc.px[k].y) < fc.threshold;
+    }
+    const double share = double(explained) / double(fc.xyz.size());
+    if (!debug_dir_.empty())
+      std::fprintf(stderr, "[dynamic] frame %ld: the tracker explains %.2f of %zu moving points\n",
+                   f, share, fc.xyz.size());
+    if (share > p_.max_explained_moving) {
+      // The check fitted the movers: nothing it found moving is carried on.
+      ++inverted_fits_;
+      std::fill(prev_age_.begin(), prev_age_.end(), uint8_t(0));
+      prev_motion_mask_.release();
+    }
+  }
+  tracked_frame_ = has_pose ? f : -1;
+  tracked_pose_ = pose_wc;
+}
+
 cv::Mat DynamicFeatureFilter::warpedMotionMask(const std::vector<cv::Point2f>& cur_points,
                                                const std::vector<uint8_t>& tracked) const {
   // The median flow of the carried points (of all points if too few).
@@ -274,6 +306,24 @@ DynamicFeatureFilter::MotionEvidence DynamicFeatureFilter::motionEvidence(
   ev.r = motion_.classify(prev_points_, cur_points, tracked, prev_.depth, cur.depth, camera_,
                           boxes_now_, size, &prev_age_);
   const MotionResult& r = ev.r;
+  // Kept for frameTracked(): the points found moving, with depth.
+  fit_check_ = FitCheck{};
+  fit_check_.frame = frame_;
+  fit_check_.threshold = r.geometry.reprojection_threshold;
+  {
+    std::vector<cv::Point2f> a, b;
+    for (std::size_t i = 0; i < r.dynamic.size(); ++i)
+      if (tracked[i] && r.dynamic[i]) {
+        a.push_back(prev_points_[i]);
+        b.push_back(cur_points[i]);
+      }
+    const Correspondences c = buildCorrespondences(a, b, prev_.depth, cur.depth, camera_, {});
+    for (std::size_t k = 0; k < c.prev_xyz.size(); ++k)
+      if (c.prev_xyz[k].z > 0) {
+        fit_check_.xyz.push_back(c.prev_xyz[k]);
+        fit_check_.px.push_back(c.cur[k]);
+      }
+  }
   ev.mask = r.mask;
   if (!r.geometry.reliable && unreliable_run_ < p_.carry_frames && !prev_motion_mask_.empty()) {
     // Blurred frame: no verdicts, so move the last motion mask along.

@@ -76,6 +76,12 @@ struct DynamicFilterParams {
   /// In such a frame, first try the last accepted motion regions moved by
   /// the flow instead (at most carry_frames frames in a row).
   bool carry_last_regions = true;
+  /// After tracking: when the tracker's camera motion into the frame
+  /// explains more than this share of the points the motion check found
+  /// moving, the check fitted the movers (walkers filling the view) and
+  /// flagged the static scene; none of its points or regions are carried to
+  /// the next frame (1 = never).
+  double max_explained_moving = 0.5;
   YoloDetectorParams detector;
   BoxDepthParams box_mask;
   BoxCarrierParams carrier;
@@ -92,6 +98,9 @@ class DynamicFeatureFilter : public ObservationPreprocessor {
   void process(const RGBDFrame& frame, const cv::Mat& gray,
                const std::vector<cv::KeyPoint>& keypoints,
                std::vector<uint8_t>& dynamic) override;
+  /// Checks the frame's moving points against the tracker's camera motion
+  /// into it; see DynamicFilterParams::max_explained_moving.
+  void frameTracked(std::size_t index, bool has_pose, const cv::Matx44d& pose_wc) override;
 
   /// Dynamic-pixel mask (CV_8U, 255 = dynamic) of the last processed frame.
   const cv::Mat& lastMask() const { return mask_; }
@@ -100,6 +109,9 @@ class DynamicFeatureFilter : public ObservationPreprocessor {
   std::size_t detectorRuns() const;
   /// Frames whose motion evidence was dropped (max_motion_fraction).
   std::size_t droppedMotionFrames() const { return dropped_frames_; }
+  /// Frames whose motion fit the tracker's pose showed to be the movers'
+  /// (max_explained_moving).
+  std::size_t invertedMotionFits() const { return inverted_fits_; }
   /// Per-stage times (ms), one sample per processed frame: pyramid, lk,
   /// boxes (carrying + box depth mask), geometry, regions, total.
   const std::map<std::string, std::vector<double>>& stageTimes() const { return times_; }
@@ -160,6 +172,17 @@ class DynamicFeatureFilter : public ObservationPreprocessor {
   std::string debug_dir_;
   cv::Mat undilated_;
   std::size_t dropped_frames_ = 0;
+  // This frame's moving points with depth, for frameTracked().
+  struct FitCheck {
+    long frame = -1;
+    std::vector<cv::Point3f> xyz;  // previous-camera 3D point
+    std::vector<cv::Point2f> px;   // undistorted pixel now
+    float threshold = 0;           // the check's reprojection threshold (px)
+  } fit_check_;
+  // The last tracked frame (-1: the last frame was not tracked) and its pose.
+  long tracked_frame_ = -1;
+  cv::Matx44d tracked_pose_;
+  std::size_t inverted_fits_ = 0;
 
   // Asynchronous detector: newest frame in, latest boxes (with their frame) out.
   mutable std::mutex m_;

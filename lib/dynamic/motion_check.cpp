@@ -350,8 +350,13 @@ MotionResult MotionConsistencyCheck::classify(
     raw_prev[k] = prev_points[res.tracked_index[k]];
     raw_cur[k] = cur_points[res.tracked_index[k]];
   }
-  const Correspondences c = buildCorrespondences(raw_prev, raw_cur, prev_depth, cur_depth, camera,
-                                                 boxes, params_.depth_edge_ratio);
+  Correspondences c = buildCorrespondences(raw_prev, raw_cur, prev_depth, cur_depth, camera, boxes,
+                                           params_.depth_edge_ratio);
+  if (carried_points && params_.fit_excludes_carried) {
+    for (std::size_t k = 0; k < m; ++k) {
+      if ((*carried_points)[res.tracked_index[k]]) c.in_dynamic_box[k] = 1;
+    }
+  }
   const cv::Matx33d K(camera.fx, 0, camera.cx, 0, camera.fy, camera.cy, 0, 0, 1);
   res.geometry = classifyMotion(c, K, params_);
   // Seeds: points moving now and points carried from earlier frames.

@@ -43,7 +43,8 @@
 // region growing like fresh moving points, and a region holding min_seeds of
 // them counts as moving in the region vote. Only the moving points
 // themselves are carried, never a whole region's keypoints: that would let a
-// region sustain itself forever and creep over the static scene.
+// region sustain itself forever and creep over the static scene. Carried
+// points are also left out of the camera-motion fit (fit_excludes_carried).
 //
 // Per frame (the lead's pipeline):
 //   MotionFrame cur = check.makeFrame(gray, depth);          // pyramid built once
@@ -93,6 +94,13 @@ struct MotionCheckParams {
   /// Back-projection skips pixels whose 3x3 depth neighbourhood spans more
   /// than this fraction (depth edges: foreground or background?).
   float depth_edge_ratio = 0.05f;
+  /// Points carried as moving from earlier frames are left out of the
+  /// motion fit like the points in dynamic boxes: where walkers the detector
+  /// missed fill the view, they would otherwise outnumber the static points
+  /// and become "the camera's motion". (An inverted fit would then sustain
+  /// itself through the carried points; DynamicFeatureFilter::frameTracked
+  /// stops that with the tracker's pose.)
+  bool fit_excludes_carried = true;
   int min_static_points = 20;  ///< below: fit on all points
   double ransac_confidence = 0.99;
   int pnp_iterations = 100;

@@ -230,6 +230,7 @@ RunSummary runSlam(const RunOptions& opt) {
         .value("flagged_fraction", keypoints ? double(flagged) / keypoints : 0.0)
         .value("detector_runs", filter->detectorRuns())
         .value("dropped_motion_frames", filter->droppedMotionFrames())
+        .value("inverted_motion_fits", filter->invertedMotionFits())
         .value("keyframe_masks", keyframe_masks.size())
         .endObject();
   }

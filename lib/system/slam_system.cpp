@@ -56,6 +56,16 @@ FrameOutcome SlamSystem::process(const RGBDFrame& frame) {
     std::lock_guard<std::mutex> lk(map_.mutex());
     out.track = tracker_->track(feats, frame.index, frame.timestamp);
   }
+  if (preprocessor_) {
+    const bool ok = out.track.has_pose && out.track.state == TrackingState::kOk;
+    cv::Matx44d T = cv::Matx44d::eye();
+    if (ok) {
+      const auto H = out.track.pose_wc.getHomogeneousMatrixVal<mrpt::math::CMatrixDouble44>();
+      for (int r = 0; r < 4; ++r)
+        for (int c = 0; c < 4; ++c) T(r, c) = H(r, c);
+    }
+    preprocessor_->frameTracked(frame.index, ok, T);
+  }
   const auto t3 = Clock::now();
   if (cfg_.system.deterministic) mapper_->processPending();
   const auto t4 = Clock::now();

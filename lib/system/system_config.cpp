@@ -100,15 +100,18 @@ SlamConfig loadSlamConfig(const std::string& path) {
       .read("min_hint_points", d.min_hint_points)
       .read("orb_features", d.orb_features)
       .read("max_motion_fraction", d.max_motion_fraction)
-      .read("carry_last_regions", d.carry_last_regions);
+      .read("carry_last_regions", d.carry_last_regions)
+      .read("max_explained_moving", d.max_explained_moving);
   if (d.orb_features != 0 && d.orb_features < 50)
     throw InputError(path, "dynamic: orb_features must be 0 (keep orb.n_features) or >= 50");
   if (d.detector_interval < 1 || d.mask_margin_px < 0 || d.moving_point_radius_px < 0 ||
       d.max_flow_points < 0 || d.carry_frames < 0 || d.carry_frames > 255 ||
-      d.min_hint_points < 0 || !(d.max_motion_fraction > 0) || d.max_motion_fraction > 1)
+      d.min_hint_points < 0 || !(d.max_motion_fraction > 0) || d.max_motion_fraction > 1 ||
+      !(d.max_explained_moving > 0) || d.max_explained_moving > 1)
     throw InputError(path, "dynamic: detector_interval >= 1, mask_margin_px, "
                            "moving_point_radius_px, max_flow_points, min_hint_points >= 0, "
-                           "0 <= carry_frames <= 255, 0 < max_motion_fraction <= 1 required");
+                           "0 <= carry_frames <= 255, 0 < max_motion_fraction <= 1, "
+                           "0 < max_explained_moving <= 1 required");
   ConfigSection det = dy.sub("detector");
   std::string model;
   det.read("model", model)
@@ -150,7 +153,8 @@ SlamConfig loadSlamConfig(const std::string& path) {
       .read("reliable_inlier_ratio", mc.reliable_inlier_ratio)
       .read("region_min_dynamic_ratio", mc.region_min_dynamic_ratio)
       .read("mask_downsample", mc.mask_downsample)
-      .read("max_seed_distance_px", mc.max_seed_distance_px);
+      .read("max_seed_distance_px", mc.max_seed_distance_px)
+      .read("fit_excludes_carried", mc.fit_excludes_carried);
   ConfigSection rg = mo.sub("region_grow");
   rg.read("step_tolerance", mc.grow.step_tolerance)
       .read("max_depth_offset_m", mc.grow.max_depth_offset_m)

@@ -168,3 +168,49 @@ TEST(DynamicFeatureFilterBudget, WholeBudgetKeepsBothMovers) {
   EXPECT_GT(f3.late_flagged, 0.8 * f3.in_late);
   EXPECT_LT(f3.background_flagged, 0.02 * f3.background);
 }
+
+// frameTracked: after tracking, the tracker's camera motion into the frame is
+// compared with the points the check found moving. The true camera motion
+// (4 cm along x a frame) leaves the walker unexplained: the fit was right.
+// A camera motion that moves like the walker (4 cm along x and 5 cm up a
+// frame, which is what a fit locked onto a walker filling the view reports)
+// explains the flagged points: the fit counts as inverted in frames 1 and 2.
+// In frame 3 the late mover (2 m, 12 px down) is flagged too and neither
+// motion explains it, so the walker is under half of the moving points.
+TEST(DynamicFeatureFilterFitCheck, TrackerMotionThatExplainsTheMoversMarksTheFitInverted) {
+  const Sequence s = makeSequence();
+  DynamicFilterParams p = flowOnly(true);
+  p.max_motion_fraction = 1.0;
+  for (const bool follows_walker : {false, true}) {
+    DynamicFeatureFilter filter(p, test::sceneCamera());
+    std::vector<std::size_t> inverted;  // count after each frame
+    for (std::size_t k = 0; k < s.frames.size(); ++k) {
+      std::vector<uint8_t> dyn(s.keypoints[k].size(), 0);
+      filter.process(s.frames[k], s.gray[k], s.keypoints[k], dyn);
+      if (k == 2) {
+        const Shares f = score(s.keypoints[k], dyn, int(k));
+        ASSERT_GT(f.walker_flagged, 0.9 * f.in_walker);  // the check itself was right
+      }
+      cv::Matx44d pose_wc = cv::Matx44d::eye();
+      pose_wc(0, 3) = 0.04 * double(k);
+      if (follows_walker) pose_wc(1, 3) = -0.05 * double(k);
+      filter.frameTracked(k, true, pose_wc);
+      inverted.push_back(filter.invertedMotionFits());
+    }
+    const std::vector<std::size_t> expected =
+        follows_walker ? std::vector<std::size_t>{0, 1, 2, 2} : std::vector<std::size_t>{0, 0, 0, 0};
+    EXPECT_EQ(inverted, expected) << follows_walker;
+  }
+  // Off (max_explained_moving 1): never.
+  p.max_explained_moving = 1.0;
+  DynamicFeatureFilter off(p, test::sceneCamera());
+  for (std::size_t k = 0; k < s.frames.size(); ++k) {
+    std::vector<uint8_t> dyn(s.keypoints[k].size(), 0);
+    off.process(s.frames[k], s.gray[k], s.keypoints[k], dyn);
+    cv::Matx44d pose_wc = cv::Matx44d::eye();
+    pose_wc(0, 3) = 0.04 * double(k);
+    pose_wc(1, 3) = -0.05 * double(k);
+    off.frameTracked(k, true, pose_wc);
+  }
+  EXPECT_EQ(off.invertedMotionFits(), 0u);
+}

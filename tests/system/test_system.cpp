@@ -265,6 +265,13 @@ TEST(SystemBadInput, ReliableInlierRatioOutOfRange) {
                          "reliable_inlier_ratio");
 }
 
+TEST(SystemBadInput, FitCheckValuesRejected) {
+  for (const std::string v : {"0", "1.5", "-0.2"})
+    expectConfigRejected("dynamic:\n  max_explained_moving: " + v + "\n", "max_explained_moving");
+  expectConfigRejected("dynamic:\n  motion_check:\n    fit_excludes_carried: maybe\n",
+                       "fit_excludes_carried");
+}
+
 // A configured vocabulary that does not exist stops the run before any
 // output, naming the file.
 TEST(SystemBadInput, MissingVocabularyNamesTheFile) {
