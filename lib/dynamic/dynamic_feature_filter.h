@@ -80,8 +80,9 @@ struct DynamicFilterParams {
   /// explains more than this share of the points the motion check found
   /// moving, the check fitted the movers (walkers filling the view) and
   /// flagged the static scene; none of its points or regions are carried to
-  /// the next frame (1 = never).
-  double max_explained_moving = 0.5;
+  /// the next frame (1 = never, the default; see configs/dynslam.yaml for
+  /// the measured trade-off).
+  double max_explained_moving = 1.0;
   YoloDetectorParams detector;
   BoxDepthParams box_mask;
   BoxCarrierParams carrier;

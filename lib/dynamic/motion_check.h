@@ -100,7 +100,7 @@ struct MotionCheckParams {
   /// and become "the camera's motion". (An inverted fit would then sustain
   /// itself through the carried points; DynamicFeatureFilter::frameTracked
   /// stops that with the tracker's pose.)
-  bool fit_excludes_carried = true;
+  bool fit_excludes_carried = false;
   int min_static_points = 20;  ///< below: fit on all points
   double ransac_confidence = 0.99;
   int pnp_iterations = 100;

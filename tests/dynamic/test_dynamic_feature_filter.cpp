@@ -181,6 +181,7 @@ TEST(DynamicFeatureFilterFitCheck, TrackerMotionThatExplainsTheMoversMarksTheFit
   const Sequence s = makeSequence();
   DynamicFilterParams p = flowOnly(true);
   p.max_motion_fraction = 1.0;
+  p.max_explained_moving = 0.5;  // off by default
   for (const bool follows_walker : {false, true}) {
     DynamicFeatureFilter filter(p, test::sceneCamera());
     std::vector<std::size_t> inverted;  // count after each frame
@@ -201,7 +202,7 @@ TEST(DynamicFeatureFilterFitCheck, TrackerMotionThatExplainsTheMoversMarksTheFit
         follows_walker ? std::vector<std::size_t>{0, 1, 2, 2} : std::vector<std::size_t>{0, 0, 0, 0};
     EXPECT_EQ(inverted, expected) << follows_walker;
   }
-  // Off (max_explained_moving 1): never.
+  // Off (max_explained_moving 1, the default): never.
   p.max_explained_moving = 1.0;
   DynamicFeatureFilter off(p, test::sceneCamera());
   for (std::size_t k = 0; k < s.frames.size(); ++k) {
