@@ -28,6 +28,7 @@
 
 using namespace dynslam;
 using dynslam::test::TempDir;
+using dynslam::test::readText;
 using dynslam::test::writeText;
 using mrpt::poses::CPose3D;
 
@@ -602,13 +603,6 @@ void writeWalkerRun(const TempDir& dir) {
   writeText(dir / "run/map_points.txt", sparse.str());
 }
 
-std::string readAll(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
 }  // namespace
 
 TEST(ExportCarving, WalkerShareDropsToZeroAndTheReportCountsCarvedPoints) {
@@ -644,12 +638,12 @@ TEST(ExportCarving, WalkerShareDropsToZeroAndTheReportCountsCarvedPoints) {
   EXPECT_EQ(after.sparse_truth->walker_points, 0u);
   EXPECT_EQ(after.sparse_truth->points, 2u);
   EXPECT_EQ(readPly(after.sparse_path).size(), 2u);
-  const std::string report = readAll(after.report_path);
+  const std::string report = readText(after.report_path);
   EXPECT_NE(report.find("\"carved_points\": 240"), std::string::npos) << report;
   EXPECT_NE(report.find("\"sparse_carved_points\": 1"), std::string::npos) << report;
   EXPECT_NE(report.find("\"free_space_carving\""), std::string::npos) << report;
   EXPECT_NE(report.find("\"carve_free_space\": true"), std::string::npos) << report;
-  EXPECT_NE(readAll(before.report_path).find("\"carve_free_space\": false"), std::string::npos);
+  EXPECT_NE(readText(before.report_path).find("\"carve_free_space\": false"), std::string::npos);
 }
 
 // ------------------------------------------------------------- config ---

@@ -28,6 +28,7 @@
 
 using namespace dynslam;
 using dynslam::test::TempDir;
+using dynslam::test::readText;
 using dynslam::test::writeText;
 
 namespace {
@@ -118,13 +119,6 @@ void writeRun(const TempDir& dir, bool with_masks = true) {
 /// World point seen at pixel (u, v) at depth z by the identity camera.
 std::array<double, 3> pixelPoint(double u, double v, double z) {
   return {(u - kCx) / kFx * z, (v - kCy) / kFx * z, z};
-}
-
-std::string readAll(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
 }
 
 template <class Fn>
@@ -258,7 +252,7 @@ TEST(ExportTruth, ReportHasTheKnownWalkerShare) {
   EXPECT_EQ(r.sparse_truth->points, 4u);
   EXPECT_EQ(r.sparse_truth->walker_points, 1u);
   EXPECT_EQ(r.report_path, dir / "out/map.export.json");
-  const std::string report = readAll(r.report_path);
+  const std::string report = readText(r.report_path);
   char expected[64];
   std::snprintf(expected, sizeof expected, "%.10g", 80.0 / (kW * kH));
   EXPECT_NE(report.find("\"walker_mask_share\": " + std::string(expected)), std::string::npos)
@@ -279,7 +273,7 @@ TEST(ExportTruth, WithoutMasksFolderTheReportHasNoShare) {
                                    SequenceSource(dir / "seq", 5), dir / "map.ply", rawOptions());
   EXPECT_FALSE(r.dense_truth);
   EXPECT_TRUE(r.truth_masks_dir.empty());
-  const std::string report = readAll(dir / "map.export.json");
+  const std::string report = readText(dir / "map.export.json");
   EXPECT_NE(report.find("\"points_written\""), std::string::npos);
   EXPECT_EQ(report.find("walker_mask_share"), std::string::npos);
   // Explicitly switched off although masks exist.

@@ -56,13 +56,6 @@ bool contains(const std::string& s, const std::string& part) {
   return s.find(part) != std::string::npos;
 }
 
-std::string readAll(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
 Trajectory groundtruth() { return readTumTrajectory(rpyDir() + "/groundtruth.txt"); }
 
 Eigen::Matrix3d rotation(const mrpt::poses::CPose3D& p) {
@@ -160,7 +153,7 @@ TEST(SystemRpy, DeterministicRunsAreIdentical) {
         runDynslam({"run", rpyDir(), "-o", out, "--max-frames", "60", "--deterministic"});
     ASSERT_EQ(r.exit_code, 0) << r.output;
     EXPECT_TRUE(contains(r.output, "60 frames, 60 tracked")) << r.output;
-    traj[k] = readAll(out + "/trajectory.txt");
+    traj[k] = readText(out + "/trajectory.txt");
   }
   ASSERT_FALSE(traj[0].empty());
   EXPECT_EQ(traj[0], traj[1]);
@@ -326,8 +319,8 @@ TEST(SystemDynamic, DetectAndFlowOnStaticSequence) {
     const double flagged = report["dynamic"]["flagged_fraction"];
     EXPECT_GT(static_cast<int>(report["dynamic"]["detector_runs"]), 0);
     EXPECT_LT(flagged, 0.2);
-    if (run == 0) first = readAll(out + "/trajectory.txt");
-    else EXPECT_EQ(readAll(out + "/trajectory.txt"), first);
+    if (run == 0) first = readText(out + "/trajectory.txt");
+    else EXPECT_EQ(readText(out + "/trajectory.txt"), first);
   }
 }
 

@@ -39,6 +39,8 @@ CommandResult runDynslam(const std::vector<std::string>& args);
 
 /// Writes a text file (creating parent folders).
 void writeText(const std::string& path, const std::string& content);
+/// The whole file, byte for byte ("" when it cannot be opened).
+std::string readText(const std::string& path);
 /// Lists regular files directly in `dir` (names only, sorted).
 std::vector<std::string> listFiles(const std::string& dir);
 
