@@ -48,12 +48,10 @@ int exportMain(int argc, char** argv) {
                                     false, 0.01, "METRES", cmd);
   TCLAP::ValueArg<std::string> config_arg(
       "", "config",
-      "dynslam config YAML; its map_export: section sets the dense map parameters "
-      "(min_depth, max_depth, pixel_stride, mask_margin_px, voxel_leaf, remove_outliers, "
-      "outlier_neighbours, outlier_stddev, carve_free_space, carve_min_views, carve_ratio, "
-      "carve_margin_m, carve_margin_rel, carve_dynamic_ratio, carve_min_confirmations, "
-      "carve_window_px); other sections are ignored. "
-      "Default: the config the run used (run_info.yaml's config:) if it still exists, else "
+      "dynslam config YAML; its map_export: section sets the dense map parameters (" +
+          denseMapOptionKeys() +
+          "); other sections are ignored. "
+          "Default: the config the run used (run_info.yaml's config:) if it still exists, else "
       "the built-in defaults",
       false, "", "YAML", cmd);
   TCLAP::ValueArg<std::string> camera_arg(

@@ -6,24 +6,18 @@
 namespace dynslam {
 
 void readDenseMapOptions(ConfigSection s, DenseMapOptions& o) {
-  s.read("min_depth", o.projection.min_depth)
-      .read("max_depth", o.projection.max_depth)
-      .read("pixel_stride", o.projection.pixel_stride)
-      .read("mask_margin_px", o.projection.mask_margin_px)
-      .read("voxel_leaf", o.voxel_leaf)
-      .read("remove_outliers", o.remove_outliers)
-      .read("outlier_neighbours", o.outlier_neighbours)
-      .read("outlier_stddev", o.outlier_stddev)
-      .read("carve_free_space", o.carving.enabled)
-      .read("carve_min_views", o.carving.min_views)
-      .read("carve_ratio", o.carving.ratio)
-      .read("carve_margin_m", o.carving.margin_m)
-      .read("carve_margin_rel", o.carving.margin_rel)
-      .read("carve_window_px", o.carving.window_px)
-      .read("carve_dynamic_ratio", o.carving.dynamic_ratio)
-      .read("carve_min_confirmations", o.carving.min_confirmations);
+  forEachDenseMapOption(o, [&](const char* key, auto& field) { s.read(key, field); });
   s.rejectUnknownKeys();
   validateDenseMapOptions(o, s.file());
+}
+
+std::string denseMapOptionKeys() {
+  std::string keys;
+  const DenseMapOptions defaults;
+  forEachDenseMapOption(defaults, [&](const char* key, const auto&) {
+    keys += keys.empty() ? key : std::string(", ") + key;
+  });
+  return keys;
 }
 
 DenseMapOptions loadDenseMapOptions(const std::string& path, DenseMapOptions defaults) {

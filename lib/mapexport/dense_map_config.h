@@ -25,6 +25,33 @@
 
 namespace dynslam {
 
+/// Calls f(key, field) for every key above and the field of `options` it
+/// sets, in that order: the one list that reading the config, the export
+/// report and the command-line help share. Options: DenseMapOptions, const
+/// or not.
+template <class Options, class F>
+void forEachDenseMapOption(Options& o, F&& f) {
+  f("min_depth", o.projection.min_depth);
+  f("max_depth", o.projection.max_depth);
+  f("pixel_stride", o.projection.pixel_stride);
+  f("mask_margin_px", o.projection.mask_margin_px);
+  f("voxel_leaf", o.voxel_leaf);
+  f("remove_outliers", o.remove_outliers);
+  f("outlier_neighbours", o.outlier_neighbours);
+  f("outlier_stddev", o.outlier_stddev);
+  f("carve_free_space", o.carving.enabled);
+  f("carve_min_views", o.carving.min_views);
+  f("carve_ratio", o.carving.ratio);
+  f("carve_margin_m", o.carving.margin_m);
+  f("carve_margin_rel", o.carving.margin_rel);
+  f("carve_window_px", o.carving.window_px);
+  f("carve_dynamic_ratio", o.carving.dynamic_ratio);
+  f("carve_min_confirmations", o.carving.min_confirmations);
+}
+
+/// The keys above, comma-separated (for help texts).
+std::string denseMapOptionKeys();
+
 /// Reads the keys above from `section` into `options` (missing keys keep
 /// their value); throws InputError naming the file on unknown keys or bad
 /// values.

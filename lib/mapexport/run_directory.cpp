@@ -16,6 +16,7 @@
 #include "core/atomic_file.h"
 #include "core/errors.h"
 #include "core/json_writer.h"
+#include "mapexport/dense_map_config.h"
 #include "mapexport/ply_io.h"
 
 namespace dynslam {
@@ -112,24 +113,9 @@ void writeReport(const std::string& path, const RunDirectory& run, const FrameSo
   for (const auto& [name, sec] : phases) j.value(name, sec);
   j.endObject();
   j.value("peak_rss_mb", r.peak_rss_mb);
-  j.beginObject("options")
-      .value("min_depth", o.projection.min_depth)
-      .value("max_depth", o.projection.max_depth)
-      .value("pixel_stride", o.projection.pixel_stride)
-      .value("mask_margin_px", o.projection.mask_margin_px)
-      .value("voxel_leaf", o.voxel_leaf)
-      .value("remove_outliers", o.remove_outliers)
-      .value("outlier_neighbours", o.outlier_neighbours)
-      .value("outlier_stddev", o.outlier_stddev)
-      .value("carve_free_space", o.carving.enabled)
-      .value("carve_min_views", o.carving.min_views)
-      .value("carve_ratio", o.carving.ratio)
-      .value("carve_margin_m", o.carving.margin_m)
-      .value("carve_margin_rel", o.carving.margin_rel)
-      .value("carve_window_px", o.carving.window_px)
-      .value("carve_dynamic_ratio", o.carving.dynamic_ratio)
-      .value("carve_min_confirmations", o.carving.min_confirmations)
-      .endObject();
+  j.beginObject("options");
+  forEachDenseMapOption(o, [&](const char* key, const auto& field) { j.value(key, field); });
+  j.endObject();
   j.beginObject("up")
       .value("source", r.up.source)
       .value("plane_share", r.up.plane_share)
