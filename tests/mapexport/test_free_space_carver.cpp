@@ -67,17 +67,7 @@ CPose3D lookAt(const Vec3& c, const Vec3& target) {
   const double nx = std::sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]);
   for (double& v : x) v /= nx;
   const Vec3 y{z[1] * x[2] - z[2] * x[1], z[2] * x[0] - z[0] * x[2], z[0] * x[1] - z[1] * x[0]};
-  mrpt::math::CMatrixDouble33 R;
-  for (int k = 0; k < 3; ++k) {
-    R(k, 0) = x[k];
-    R(k, 1) = y[k];
-    R(k, 2) = z[k];
-  }
-  mrpt::math::CVectorFixedDouble<3> t;
-  t[0] = c[0];
-  t[1] = c[1];
-  t[2] = c[2];
-  return CPose3D(R, t);
+  return dynslam::test::poseFromColumns(x.data(), y.data(), z.data(), c.data());
 }
 
 /// World point seen at pixel (u, v) at depth z by the camera at pose_wc

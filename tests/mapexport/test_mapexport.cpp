@@ -450,13 +450,8 @@ TEST(UpDirection, PerpendicularToCameraXAxesEvenWhenLookingDown) {
     const double r[3] = {std::sin(yaw), -std::cos(yaw), 0};
     const double d[3] = {f[1] * r[2] - f[2] * r[1], f[2] * r[0] - f[0] * r[2],
                          f[0] * r[1] - f[1] * r[0]};
-    mrpt::math::CMatrixDouble33 R;
-    for (int k = 0; k < 3; ++k) {
-      R(k, 0) = r[k];
-      R(k, 1) = d[k];
-      R(k, 2) = f[k];
-    }
-    kfs.push_back({double(i), mrpt::poses::CPose3D(R, mrpt::math::CVectorFixedDouble<3>::Zero())});
+    const double origin[3] = {0, 0, 0};
+    kfs.push_back({double(i), dynslam::test::poseFromColumns(r, d, f, origin)});
   }
   const auto up = estimateUpDirection(kfs);
   EXPECT_NEAR(up[0], 0, 1e-6);

@@ -350,17 +350,8 @@ mrpt::poses::CPose3D cameraPose(double x, double y, double z, double yaw, double
   Eigen::Vector3d d = f.cross(r);
   const Eigen::Vector3d r2 = std::cos(roll) * r + std::sin(roll) * d;
   const Eigen::Vector3d d2 = f.cross(r2);
-  mrpt::math::CMatrixDouble33 R;
-  for (int k = 0; k < 3; ++k) {
-    R(k, 0) = r2[k];
-    R(k, 1) = d2[k];
-    R(k, 2) = f[k];
-  }
-  mrpt::math::CVectorFixedDouble<3> t;
-  t[0] = x;
-  t[1] = y;
-  t[2] = z;
-  return mrpt::poses::CPose3D(R, t);
+  const double centre[3] = {x, y, z};
+  return dynslam::test::poseFromColumns(r2.data(), d2.data(), f.data(), centre);
 }
 
 /// An office corner, z up: floor z = 0 (3 x 3 m), desk top z = 0.75

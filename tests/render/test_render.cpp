@@ -31,17 +31,8 @@ mrpt::poses::CPose3D lookAt(double ex, double ey, double ez, double tx, double t
   for (double& v : x) v /= nx;
   const double y[3] = {z[1] * x[2] - z[2] * x[1], z[2] * x[0] - z[0] * x[2],
                        z[0] * x[1] - z[1] * x[0]};
-  mrpt::math::CMatrixDouble33 R;
-  for (int k = 0; k < 3; ++k) {
-    R(k, 0) = x[k];
-    R(k, 1) = y[k];
-    R(k, 2) = z[k];
-  }
-  mrpt::math::CVectorFixedDouble<3> t;
-  t[0] = ex;
-  t[1] = ey;
-  t[2] = ez;
-  return mrpt::poses::CPose3D(R, t);
+  const double eye[3] = {ex, ey, ez};
+  return dynslam::test::poseFromColumns(x, y, z, eye);
 }
 
 /// Points on the surface of the cube [-0.5, 0.5]^3, coloured by position,

@@ -80,6 +80,19 @@ std::string readText(const std::string& path) {
   return ss.str();
 }
 
+mrpt::poses::CPose3D poseFromColumns(const double* x, const double* y, const double* z,
+                                     const double* centre) {
+  mrpt::math::CMatrixDouble33 R;
+  mrpt::math::CVectorFixedDouble<3> t;
+  for (int k = 0; k < 3; ++k) {
+    R(k, 0) = x[k];
+    R(k, 1) = y[k];
+    R(k, 2) = z[k];
+    t[k] = centre[k];
+  }
+  return mrpt::poses::CPose3D(R, t);
+}
+
 std::vector<std::string> listFiles(const std::string& dir) {
   std::vector<std::string> v;
   for (const auto& e : fs::directory_iterator(dir))

@@ -1,6 +1,8 @@
 #pragma once
 // Test helpers: where the shared data lives, scratch folders that clean up
 // after themselves, and running the real `dynslam` binary for CLI tests.
+#include <mrpt/poses/CPose3D.h>
+
 #include <string>
 #include <vector>
 
@@ -41,6 +43,12 @@ CommandResult runDynslam(const std::vector<std::string>& args);
 void writeText(const std::string& path, const std::string& content);
 /// The whole file, byte for byte ("" when it cannot be opened).
 std::string readText(const std::string& path);
+/// Camera-to-world pose whose rotation has the columns x, y, z (the camera
+/// axes in the world) and whose centre is `centre` (3 values each). Each
+/// test derives the axes with its own look-at convention; render/'s
+/// poseFromAxes is not used, so the tests do not rely on the code they check.
+mrpt::poses::CPose3D poseFromColumns(const double* x, const double* y, const double* z,
+                                     const double* centre);
 /// Lists regular files directly in `dir` (names only, sorted).
 std::vector<std::string> listFiles(const std::string& dir);
 
