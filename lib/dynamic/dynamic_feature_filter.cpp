@@ -306,20 +306,15 @@ DynamicFeatureFilter::MotionEvidence DynamicFeatureFilter::motionEvidence(
   ev.r = motion_.classify(prev_points_, cur_points, tracked, prev_.depth, cur.depth, camera_,
                           boxes_now_, size, &prev_age_);
   const MotionResult& r = ev.r;
-  // Kept for frameTracked(): the points found moving, with depth.
-  fit_check_ = FitCheck{};
-  fit_check_.frame = frame_;
-  fit_check_.threshold = r.geometry.reprojection_threshold;
-  {
-    std::vector<cv::Point2f> a, b;
-    for (std::size_t i = 0; i < r.dynamic.size(); ++i)
-      if (tracked[i] && r.dynamic[i]) {
-        a.push_back(prev_points_[i]);
-        b.push_back(cur_points[i]);
-      }
-    const Correspondences c = buildCorrespondences(a, b, prev_.depth, cur.depth, camera_, {});
+  if (p_.max_explained_moving < 1.0) {
+    // Kept for frameTracked(): the points found moving, with depth, as the
+    // check back-projected and undistorted them.
+    fit_check_ = FitCheck{};
+    fit_check_.frame = frame_;
+    fit_check_.threshold = r.geometry.reprojection_threshold;
+    const Correspondences& c = r.correspondences;
     for (std::size_t k = 0; k < c.prev_xyz.size(); ++k)
-      if (c.prev_xyz[k].z > 0) {
+      if (r.dynamic[r.tracked_index[k]] && c.prev_xyz[k].z > 0) {
         fit_check_.xyz.push_back(c.prev_xyz[k]);
         fit_check_.px.push_back(c.cur[k]);
       }

@@ -359,6 +359,7 @@ MotionResult MotionConsistencyCheck::classify(
   }
   const cv::Matx33d K(camera.fx, 0, camera.cx, 0, camera.fy, camera.cy, 0, 0, 1);
   res.geometry = classifyMotion(c, K, params_);
+  res.correspondences = std::move(c);
   // Seeds: points moving now and points carried from earlier frames.
   std::vector<uint8_t> moving(m, 0);
   std::vector<cv::Point2f> seeds;
