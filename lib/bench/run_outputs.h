@@ -1,7 +1,8 @@
 #pragma once
 // Reads what `dynslam run` leaves in its run folder for the benchmarks:
-// frame_times.txt (one line per frame) and a few numbers of report.json. Reading them back, rather than linking the pipeline in, keeps
-// every benchmark run a plain `dynslam run`, identical to a user's.
+// frame_times.txt (one line per frame) and a few numbers of report.json.
+// Reading them back, rather than linking the pipeline in, keeps every
+// benchmark run a plain `dynslam run`, identical to a user's.
 #include <string>
 #include <vector>
 

@@ -22,9 +22,10 @@ constexpr const char* kDescription =
     "loop-corrected poses) is looked up in the run's input sequence (run_info.yaml 'input:'), "
     "its depth back-projected with the camera model (undistorted), pixels of "
     "dynamic_masks/<t>.png (grown by --mask-margin) left out, and the union reduced with a "
-    "voxel grid, free-space carving (points that other keyframes see through, such as people "
-    "the dynamic masks missed, are removed; also applied to the sparse map) and statistical "
-    "outlier removal. The extension of -o picks the format: .ply "
+    "voxel grid, carving (points that other keyframes see through, that the other keyframes' "
+    "dynamic masks outvote or that fewer than 3 keyframes confirm, such as people the dynamic "
+    "masks missed, are removed; the first two rules also apply to the sparse map) and "
+    "statistical outlier removal. The extension of -o picks the format: .ply "
     "(binary, coloured points) or .glb (glTF 2.0: points, trajectory, keyframe frustums and "
     "poses). If RUN_DIR/map_points.txt exists, the sparse map is also written as "
     "<MAP>_sparse.ply. A report <MAP>.export.json gives point counts, phase times, peak "
@@ -65,8 +66,9 @@ int exportMain(int argc, char** argv) {
   TCLAP::SwitchArg no_outliers_arg("", "no-outlier-removal",
                                    "skip statistical outlier removal (faster)", cmd, false);
   TCLAP::SwitchArg no_carving_arg("", "no-carving",
-                                  "skip free-space carving (keeps whatever other keyframes see "
-                                  "through, e.g. people missed by the dynamic masks)",
+                                  "skip carving (keeps whatever other keyframes see through, "
+                                  "outvote or do not confirm, e.g. people missed by the dynamic "
+                                  "masks)",
                                   cmd, false);
   TCLAP::ValueArg<std::string> truth_arg(
       "", "truth-masks",
@@ -104,14 +106,14 @@ int exportMain(int argc, char** argv) {
   if (truth_arg.isSet()) eo.truth_masks_dir = truth_arg.getValue() == "none" ? "" : truth_arg.getValue();
   const ExportResult r = exportRun(run, *source, out_arg.getValue(), options, eo);
   std::printf("%s: %zu points (%zu back-projected from %zu keyframes, %zu after voxel grid, "
-              "%zu carved as free space in %.2f s) in %.2f s, peak %.0f MB\n",
+              "%zu carved in %.2f s) in %.2f s, peak %.0f MB\n",
               out_arg.getValue().c_str(), r.points_written, r.stats.backprojected_points,
               r.stats.keyframes, r.stats.after_voxel, r.stats.carved_points,
               r.stats.carving_seconds, r.seconds, r.peak_rss_mb);
   std::printf("up %.4f,%.4f,%.4f (%s; %.1f deg from the keyframe estimate)\n", r.up.up[0],
               r.up.up[1], r.up.up[2], r.up.source.c_str(), r.up.prior_angle_deg);
   if (!r.sparse_path.empty()) {
-    std::printf("%s: %zu sparse map points (%zu carved as free space)\n", r.sparse_path.c_str(),
+    std::printf("%s: %zu sparse map points (%zu carved)\n", r.sparse_path.c_str(),
                 r.sparse_points, r.sparse_carved_points);
   }
   if (r.dense_truth) {

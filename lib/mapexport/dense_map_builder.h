@@ -37,7 +37,7 @@ struct DenseMapStats {
   std::size_t keyframes = 0;
   std::size_t backprojected_points = 0;  ///< before any filtering
   std::size_t after_voxel = 0;
-  std::size_t carved_points = 0;  ///< removed by free-space carving
+  std::size_t carved_points = 0;  ///< removed by carving (free_space_carver.h)
   std::size_t after_carving = 0;
   double carving_seconds = 0;
   std::size_t after_outliers = 0;
@@ -56,7 +56,7 @@ class DenseMapBuilder {
                    const cv::Mat& dynamic_mask = cv::Mat(),
                    const cv::Mat& truth_mask = cv::Mat());
 
-  /// Final voxel grid, free-space carving and outlier removal. The builder can keep accepting
+  /// Final voxel grid, carving and outlier removal. The builder can keep accepting
   /// keyframes afterwards (build() does not consume the accumulation).
   ColoredCloud build();
 
@@ -66,7 +66,7 @@ class DenseMapBuilder {
   /// The recorded provenance (pixel counts); null if no truth mask was given.
   const DenseMaskProvenance* provenance() const { return provenance_.get(); }
 
-  /// The keyframes' depth for free-space carving; null when carving is off.
+  /// The keyframes' depth for carving; null when carving is off.
   /// Other clouds in the same world frame (the sparse map) can be carved
   /// with it after the last keyframe.
   const FreeSpaceCarver* carver() const { return carver_.get(); }

@@ -62,7 +62,7 @@ struct ExportResult {
   std::size_t points_written = 0;
   std::string sparse_path;  ///< written sparse PLY, empty if none
   std::size_t sparse_points = 0;         ///< written (after carving)
-  std::size_t sparse_carved_points = 0;  ///< removed by free-space carving
+  std::size_t sparse_carved_points = 0;  ///< removed by carving
   std::string report_path;  ///< written report, empty if none
   double seconds = 0;       ///< wall time of exportRun up to the report
   double peak_rss_mb = 0;   ///< process peak resident memory at the end
@@ -79,7 +79,7 @@ std::string exportReportPath(const std::string& out_path);
 /// Fuses every keyframe of `run` found in `source` (|dt| < 1e-4 s) with its
 /// mask, writes `out_path` (.ply / .glb; parent folders are created) and,
 /// when map_points.txt exists, the sparse map next to it as
-/// <stem>_sparse.ply (free-space carved like the dense map when
+/// <stem>_sparse.ply (carved by the free-space and dynamic-vote rules when
 /// options.carving is on), then the export report (atomically): point counts,
 /// options, time, peak memory, up direction and, with truth masks, the
 /// share of map points that came from walking / standing people's pixels
