@@ -391,7 +391,7 @@ void Tracker::searchLocalPoints() {
 
 void Tracker::cullPointsOnDynamicKeypoints() {
   const FeatureSet& f = cur_.f();
-  if (std::find(f.dynamic.begin(), f.dynamic.end(), uint8_t(1)) == f.dynamic.end()) return;
+  if (std::none_of(f.dynamic.begin(), f.dynamic.end(), [](uint8_t d) { return d != 0; })) return;
   const FrameContext& ctx = *f.ctx;
   int culled = 0;
   for (MapPoint* mp : local_points_) {
