@@ -24,6 +24,7 @@
 #include "mapexport/free_space_carver.h"
 #include "mapexport/ply_io.h"
 #include "mapexport/run_directory.h"
+#include "named_frame_source.h"
 #include "testing/test_support.h"
 
 using namespace dynslam;
@@ -547,10 +548,9 @@ namespace {
 constexpr double kBg = 2.2, kWalkerZ = 1.1;
 cv::Rect walkerRect(std::size_t i) { return cv::Rect(20 + 40 * int(i), 50, 10, 8); }
 
-class WalkerSource : public FrameSource {
+class WalkerSource : public dynslam::test::NamedFrameSource {
  public:
-  explicit WalkerSource(std::string seq) : seq_(std::move(seq)), cam_(testCamera()) {}
-  std::size_t size() const override { return 3; }
+  explicit WalkerSource(std::string seq) : NamedFrameSource(std::move(seq), 3, testCamera()) {}
   RGBDFrame load(std::size_t i) const override {
     RGBDFrame f;
     f.index = i;
@@ -559,17 +559,10 @@ class WalkerSource : public FrameSource {
     f.depth(walkerRect(i)).setTo(std::lround(kWalkerZ * kScale));
     f.rgb = cv::Mat(kH, kW, CV_8UC3, cv::Scalar(90, 120, 150));
     f.rgb(walkerRect(i)).setTo(cv::Scalar(0, 0, 255));
-    f.rgb_source = seq_ + "/rgb/" + stem(i) + ".png";
+    f.rgb_source = rgbPath(i);
     f.depth_source = "depth.png";
     return f;
   }
-  const PinholeCamera& camera() const override { return cam_; }
-  std::string description() const override { return seq_; }
-  static std::string stem(std::size_t i) { return std::to_string(i + 1) + ".000000"; }
-
- private:
-  std::string seq_;
-  PinholeCamera cam_;
 };
 
 void writeWalkerRun(const TempDir& dir) {

@@ -24,6 +24,7 @@
 #include "mapexport/run_directory.h"
 #include "mapexport/truth_mask_score.h"
 #include "mapexport/up_estimation.h"
+#include "named_frame_source.h"
 #include "testing/test_support.h"
 
 using namespace dynslam;
@@ -80,25 +81,16 @@ DenseMapOptions rawOptions() {
   return o;
 }
 
-/// Frames at t = 1..n whose RGB files are SEQ/rgb/<t>.png (never read: the
-/// frames are synthetic), so their truth masks are SEQ/masks/<t>.png.
-class SequenceSource : public FrameSource {
+/// Frames at t = 1..n (frameAt), named so that their truth masks are
+/// SEQ/masks/<t>.png.
+class SequenceSource : public dynslam::test::NamedFrameSource {
  public:
-  SequenceSource(std::string seq, std::size_t n) : seq_(std::move(seq)), n_(n), cam_(testCamera()) {}
-  std::size_t size() const override { return n_; }
+  SequenceSource(std::string seq, std::size_t n) : NamedFrameSource(std::move(seq), n, testCamera()) {}
   RGBDFrame load(std::size_t i) const override {
-    RGBDFrame f = frameAt(double(i + 1), seq_ + "/rgb/" + stem(i) + ".png");
+    RGBDFrame f = frameAt(double(i + 1), rgbPath(i));
     f.index = i;
     return f;
   }
-  const PinholeCamera& camera() const override { return cam_; }
-  std::string description() const override { return seq_; }
-  static std::string stem(std::size_t i) { return std::to_string(i + 1) + ".000000"; }
-
- private:
-  std::string seq_;
-  std::size_t n_;
-  PinholeCamera cam_;
 };
 
 /// Run folder DIR/run on input DIR/seq (with masks/ for every frame unless
