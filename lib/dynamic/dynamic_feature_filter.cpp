@@ -183,6 +183,23 @@ void DynamicFeatureFilter::process(const RGBDFrame& frame, const cv::Mat& gray,
   cv::Mat box_mask = boxMask(frame, ev.carried);
   times_["boxes"].push_back(ms_boxes + msSince(t0));
   std::size_t flagged = flagEvidence(ev, box_mask, keypoints, dynamic);
+  recheck_.frame = -1;
+  if (motion && p_.recheck_disagreement_px > 0) {
+    Recheck& rc = recheck_;
+    rc.frame = frame_;
+    rc.prev_points = prev_points_;
+    rc.prev_age = prev_age_;
+    rc.cur_points = cur_points;
+    rc.tracked = tracked;
+    rc.prev_depth = prev_.depth;
+    rc.cur_depth = cur.depth;
+    rc.box_mask = box_mask;
+    rc.boxes = boxes_now_;
+    rc.keypoints = keypoints;
+    rc.fit = ev.r.geometry;
+    rc.correspondences = ev.r.correspondences;
+    rc.dropped = false;
+  }
   if (!debug_dir_.empty()) {
     const GeometryResult& g = ev.r.geometry;
     std::fprintf(stderr,
@@ -202,6 +219,7 @@ void DynamicFeatureFilter::process(const RGBDFrame& frame, const cv::Mat& gray,
     // detector's boxes count and nothing is carried forward, or tracking is
     // starved of the static points it needs.
     ++dropped_frames_;
+    recheck_.dropped = true;
     const bool can_carry = motion && p_.carry_last_regions && !ev.warped &&
                            unreliable_run_ < p_.carry_frames && !prev_motion_mask_.empty();
     MotionEvidence stand_in;
@@ -226,18 +244,7 @@ void DynamicFeatureFilter::process(const RGBDFrame& frame, const cv::Mat& gray,
     unreliable_run_ = 0;
   prev_motion_mask_ = ev.mask;
 
-  if (!debug_dir_.empty()) {
-    // Diagnostics: B = box mask, G = grown regions, R = everything before dilation.
-    cv::Mat planes[3] = {box_mask.empty() ? cv::Mat::zeros(mask_.size(), CV_8U) : box_mask.clone(),
-                         ev.mask.empty() ? cv::Mat::zeros(mask_.size(), CV_8U) : ev.mask,
-                         undilated_};
-    for (const auto& b : boxes_now_) cv::rectangle(planes[0], cv::Rect(b.box), cv::Scalar(128), 2);
-    cv::Mat bgr;
-    cv::merge(planes, 3, bgr);
-    char name[32];
-    std::snprintf(name, sizeof name, "/%06ld.png", frame_);
-    cv::imwrite(debug_dir_ + name, bgr);
-  }
+  writeDebugImage(box_mask, ev.mask);
   if (need_lk) {
     selectFlowPoints(keypoints, ev.carried, ev.carried_age);
     prev_ = std::move(cur);
@@ -246,36 +253,29 @@ void DynamicFeatureFilter::process(const RGBDFrame& frame, const cv::Mat& gray,
   times_["total"].push_back(msSince(t_all));
 }
 
-void DynamicFeatureFilter::frameTracked(std::size_t index, bool has_pose,
-                                        const cv::Matx44d& pose_wc) {
+void DynamicFeatureFilter::writeDebugImage(const cv::Mat& box_mask, const cv::Mat& regions) const {
+  if (debug_dir_.empty()) return;
+  // Diagnostics: B = box mask, G = grown regions, R = everything before dilation.
+  cv::Mat planes[3] = {box_mask.empty() ? cv::Mat::zeros(mask_.size(), CV_8U) : box_mask.clone(),
+                       regions.empty() ? cv::Mat::zeros(mask_.size(), CV_8U) : regions,
+                       undilated_};
+  for (const auto& b : boxes_now_) cv::rectangle(planes[0], cv::Rect(b.box), cv::Scalar(128), 2);
+  cv::Mat bgr;
+  cv::merge(planes, 3, bgr);
+  char name[32];
+  std::snprintf(name, sizeof name, "/%06ld.png", frame_);
+  cv::imwrite(debug_dir_ + name, bgr);
+}
+
+bool DynamicFeatureFilter::frameTracked(std::size_t index, bool has_pose,
+                                        const cv::Matx44d& pose_wc, std::vector<uint8_t>& dynamic) {
   const long f = long(index);
-  const FitCheck& fc = fit_check_;
-  if (p_.max_explained_moving < 1.0 && has_pose && tracked_frame_ == f - 1 && fc.frame == f &&
-      fc.xyz.size() >= 10) {
-    // How many of the moving points does the tracker's camera motion from
-    // the previous frame to this one explain?
-    const cv::Matx44d rel = pose_wc.inv() * tracked_pose_;
-    std::size_t explained = 0;
-    for (std::size_t k = 0; k < fc.xyz.size(); ++k) {
-      const cv::Vec4d X = rel * cv::Vec4d(fc.xyz[k].x, fc.xyz[k].y, fc.xyz[k].z, 1.0);
-      if (X[2] <= 1e-6) continue;
-      const double u = camera_.fx * X[0] / X[2] + camera_.cx;
-      const double v = camera_.fy * X[1] / X[2] + camera_.cy;
-      explained += std::hypot(u - fc.px[k].x, v - fc.px[k].y) < fc.threshold;
-    }
-    const double share = double(explained) / double(fc.xyz.size());
-    if (!debug_dir_.empty())
-      std::fprintf(stderr, "[dynamic] frame %ld: the tracker explains %.2f of %zu moving points\n",
-                   f, share, fc.xyz.size());
-    if (share > p_.max_explained_moving) {
-      // The check fitted the movers: nothing it found moving is carried on.
-      ++inverted_fits_;
-      std::fill(prev_age_.begin(), prev_age_.end(), uint8_t(0));
-      prev_motion_mask_.release();
-    }
-  }
+  bool changed = false;
+  if (has_pose && tracked_frame_ == f - 1 && recheck_.frame == f && dynamic.size() == recheck_.keypoints.size())
+    changed = recheck(tracked_pose_, pose_wc, dynamic);
   tracked_frame_ = has_pose ? f : -1;
   tracked_pose_ = pose_wc;
+  return changed;
 }
 
 cv::Mat DynamicFeatureFilter::warpedMotionMask(const std::vector<cv::Point2f>& cur_points,
@@ -306,33 +306,77 @@ DynamicFeatureFilter::MotionEvidence DynamicFeatureFilter::motionEvidence(
   ev.r = motion_.classify(prev_points_, cur_points, tracked, prev_.depth, cur.depth, camera_,
                           boxes_now_, size, &prev_age_);
   const MotionResult& r = ev.r;
-  if (p_.max_explained_moving < 1.0) {
-    // Kept for frameTracked(): the points found moving, with depth, as the
-    // check back-projected and undistorted them.
-    fit_check_ = FitCheck{};
-    fit_check_.frame = frame_;
-    fit_check_.threshold = r.geometry.reprojection_threshold;
-    const Correspondences& c = r.correspondences;
-    for (std::size_t k = 0; k < c.prev_xyz.size(); ++k)
-      if (r.dynamic[r.tracked_index[k]] && c.prev_xyz[k].z > 0) {
-        fit_check_.xyz.push_back(c.prev_xyz[k]);
-        fit_check_.px.push_back(c.cur[k]);
-      }
-  }
   ev.mask = r.mask;
   if (!r.geometry.reliable && unreliable_run_ < p_.carry_frames && !prev_motion_mask_.empty()) {
     // Blurred frame: no verdicts, so move the last motion mask along.
     ev.mask = warpedMotionMask(cur_points, tracked);
     ev.warped = true;
   }
+  collectMoving(ev, cur_points, tracked, prev_age_);
+  return ev;
+}
+
+void DynamicFeatureFilter::collectMoving(MotionEvidence& ev,
+                                         const std::vector<cv::Point2f>& cur_points,
+                                         const std::vector<uint8_t>& tracked,
+                                         const std::vector<uint8_t>& ages) const {
+  const MotionResult& r = ev.r;
   for (std::size_t i = 0; i < r.dynamic.size(); ++i) {
     if (!tracked[i]) continue;
-    const uint8_t age_before = prev_age_[i];
+    const uint8_t age_before = ages[i];
     if (!r.dynamic[i] && !age_before) continue;
     // Moving now: carried for carry_frames; carried before: one less.
     ev.addMoving(cur_points[i], r.dynamic[i] ? p_.carry_frames : int(age_before) - 1);
   }
-  return ev;
+}
+
+bool DynamicFeatureFilter::recheck(const cv::Matx44d& prev_pose_wc, const cv::Matx44d& pose_wc,
+                                   std::vector<uint8_t>& dynamic) {
+  Recheck& rc = recheck_;
+  rc.frame = -1;
+  // Previous camera -> current camera, from the tracker.
+  const cv::Matx44d rel = pose_wc.inv() * prev_pose_wc;
+  CameraMotion known;
+  known.R = rel.get_minor<3, 3>(0, 0);
+  known.t = cv::Vec3d(rel(0, 3), rel(1, 3), rel(2, 3));
+  bool needed = rc.dropped || !rc.fit.reliable || !rc.fit.has_pose;
+  if (!needed) {
+    // Median pixel distance between the fit's and the tracker's prediction
+    // of the depth-backed points.
+    std::vector<float> d;
+    const Correspondences& c = rc.correspondences;
+    for (const cv::Point3f& X : c.prev_xyz) {
+      if (X.z <= 0) continue;
+      const cv::Vec3d a = rc.fit.R * cv::Vec3d(X.x, X.y, X.z) + rc.fit.t;
+      const cv::Vec3d b = known.R * cv::Vec3d(X.x, X.y, X.z) + known.t;
+      if (a[2] <= 1e-6 || b[2] <= 1e-6) continue;
+      d.push_back(float(std::hypot(camera_.fx * (a[0] / a[2] - b[0] / b[2]),
+                                   camera_.fy * (a[1] / a[2] - b[1] / b[2]))));
+    }
+    if (!d.empty()) {
+      std::nth_element(d.begin(), d.begin() + d.size() / 2, d.end());
+      needed = d[d.size() / 2] > p_.recheck_disagreement_px;
+    }
+  }
+  if (!needed) return false;
+  const int64 t0 = cv::getTickCount();
+  MotionEvidence ev;
+  ev.r = motion_.classify(rc.prev_points, rc.cur_points, rc.tracked, rc.prev_depth, rc.cur_depth,
+                          camera_, rc.boxes, rc.cur_depth.size(), &rc.prev_age, &known);
+  ev.mask = ev.r.mask;
+  collectMoving(ev, rc.cur_points, rc.tracked, rc.prev_age);
+  const std::size_t flagged = flagEvidence(ev, rc.box_mask, rc.keypoints, dynamic);
+  ++rechecked_frames_;
+  times_["recheck"].push_back(msSince(t0));
+  writeDebugImage(rc.box_mask, ev.mask);
+  if (!debug_dir_.empty())
+    std::fprintf(stderr, "[dynamic] frame %ld: rechecked under the tracker's motion: %zu flagged\n",
+                 frame_, flagged);
+  // The next frame goes on from these verdicts.
+  selectFlowPoints(rc.keypoints, ev.carried, ev.carried_age);
+  prev_motion_mask_ = ev.mask;
+  unreliable_run_ = 0;
+  return true;
 }
 
 void DynamicFeatureFilter::MotionEvidence::addMoving(const cv::Point2f& p, int age) {

@@ -14,6 +14,12 @@
 // Keypoints falling on the union of both masks (dilated by a margin) are
 // flagged dynamic.
 //
+// Why a second look after tracking (frameTracked): where movers fill the
+// view, the frame-to-frame fit can take their motion for the camera's and
+// flag the static scene. The tracker's pose is fitted on the map, which
+// they cannot hijack that way; frames whose fit disagrees with it are
+// judged again under its motion, and those flags are what mapping uses.
+//
 // Cost: LK runs on at most max_flow_points keypoints of the previous frame
 // (keypoints carried as dynamic first), at half resolution by default; the
 // box carrying reuses those tracks. Per-stage times: stageTimes(), printed at
@@ -76,13 +82,13 @@ struct DynamicFilterParams {
   /// In such a frame, first try the last accepted motion regions moved by
   /// the flow instead (at most carry_frames frames in a row).
   bool carry_last_regions = true;
-  /// After tracking: when the tracker's camera motion into the frame
-  /// explains more than this share of the points the motion check found
-  /// moving, the check fitted the movers (walkers filling the view) and
-  /// flagged the static scene; none of its points or regions are carried to
-  /// the next frame (1 = never, the default; see configs/dynslam.yaml for
-  /// the measured trade-off).
-  double max_explained_moving = 1.0;
+  /// After tracking: re-classify the frame's tracked points under the
+  /// tracker's camera motion (from the map, which walkers filling the view
+  /// cannot hijack as they hijack the frame-to-frame fit) when the fit was
+  /// unreliable, dropped, or disagrees with it by more than this many pixels
+  /// (median over the depth-backed points); the new flags replace the
+  /// frame's and seed the next frame. 0 = off.
+  double recheck_disagreement_px = 1.5;
   YoloDetectorParams detector;
   BoxDepthParams box_mask;
   BoxCarrierParams carrier;
@@ -99,9 +105,11 @@ class DynamicFeatureFilter : public ObservationPreprocessor {
   void process(const RGBDFrame& frame, const cv::Mat& gray,
                const std::vector<cv::KeyPoint>& keypoints,
                std::vector<uint8_t>& dynamic) override;
-  /// Checks the frame's moving points against the tracker's camera motion
-  /// into it; see DynamicFilterParams::max_explained_moving.
-  void frameTracked(std::size_t index, bool has_pose, const cv::Matx44d& pose_wc) override;
+  /// Re-judges the frame under the tracker's camera motion into it when the
+  /// frame-to-frame fit disagrees with it (recheck_disagreement_px); returns
+  /// whether `dynamic` changed.
+  bool frameTracked(std::size_t index, bool has_pose, const cv::Matx44d& pose_wc,
+                    std::vector<uint8_t>& dynamic) override;
 
   /// Dynamic-pixel mask (CV_8U, 255 = dynamic) of the last processed frame.
   const cv::Mat& lastMask() const { return mask_; }
@@ -110,11 +118,11 @@ class DynamicFeatureFilter : public ObservationPreprocessor {
   std::size_t detectorRuns() const;
   /// Frames whose motion evidence was dropped (max_motion_fraction).
   std::size_t droppedMotionFrames() const { return dropped_frames_; }
-  /// Frames whose motion fit the tracker's pose showed to be the movers'
-  /// (max_explained_moving).
-  std::size_t invertedMotionFits() const { return inverted_fits_; }
+  /// Frames re-classified under the tracker's motion (recheck_disagreement_px).
+  std::size_t recheckedFrames() const { return rechecked_frames_; }
   /// Per-stage times (ms), one sample per processed frame: pyramid, lk,
-  /// boxes (carrying + box depth mask), geometry, regions, total.
+  /// boxes (carrying + box depth mask), geometry, regions, total; and one
+  /// per re-judged frame: recheck.
   const std::map<std::string, std::vector<double>>& stageTimes() const { return times_; }
 
  private:
@@ -133,6 +141,15 @@ class DynamicFeatureFilter : public ObservationPreprocessor {
   };
   MotionEvidence motionEvidence(const MotionFrame& cur, const std::vector<cv::Point2f>& cur_points,
                                 const std::vector<uint8_t>& tracked, cv::Size size);
+  /// The moving and carried points of a classification (ages: the carried
+  /// age of each tracked point before it); ev.mask must be set first.
+  void collectMoving(MotionEvidence& ev, const std::vector<cv::Point2f>& cur_points,
+                     const std::vector<uint8_t>& tracked, const std::vector<uint8_t>& ages) const;
+  /// frameTracked(): re-classify the last frame under the tracker's motion.
+  bool recheck(const cv::Matx44d& prev_pose_wc, const cv::Matx44d& pose_wc,
+               std::vector<uint8_t>& dynamic);
+  /// $DYNSLAM_DEBUG_DYNAMIC_DIR/<frame>.png: the mask's parts.
+  void writeDebugImage(const cv::Mat& box_mask, const cv::Mat& regions) const;
   /// prev_motion_mask_ moved by the median flow of the carried points.
   cv::Mat warpedMotionMask(const std::vector<cv::Point2f>& cur_points,
                            const std::vector<uint8_t>& tracked) const;
@@ -173,17 +190,22 @@ class DynamicFeatureFilter : public ObservationPreprocessor {
   std::string debug_dir_;
   cv::Mat undilated_;
   std::size_t dropped_frames_ = 0;
-  // This frame's moving points with depth, for frameTracked().
-  struct FitCheck {
-    long frame = -1;
-    std::vector<cv::Point3f> xyz;  // previous-camera 3D point
-    std::vector<cv::Point2f> px;   // undistorted pixel now
-    float threshold = 0;           // the check's reprojection threshold (px)
-  } fit_check_;
   // The last tracked frame (-1: the last frame was not tracked) and its pose.
   long tracked_frame_ = -1;
   cv::Matx44d tracked_pose_;
-  std::size_t inverted_fits_ = 0;
+  // What process() saw of this frame, for recheck().
+  struct Recheck {
+    long frame = -1;
+    std::vector<cv::Point2f> prev_points, cur_points;
+    std::vector<uint8_t> prev_age, tracked;
+    cv::Mat prev_depth, cur_depth, box_mask;
+    std::vector<Detection> boxes;
+    std::vector<cv::KeyPoint> keypoints;
+    GeometryResult fit;
+    Correspondences correspondences;
+    bool dropped = false;
+  } recheck_;
+  std::size_t rechecked_frames_ = 0;
 
   // Asynchronous detector: newest frame in, latest boxes (with their frame) out.
   mutable std::mutex m_;

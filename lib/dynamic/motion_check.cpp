@@ -24,10 +24,28 @@ bool inDynamicBox(const cv::Point2f& p, const std::vector<Detection>& boxes) {
   return false;
 }
 
+// Refines (rvec, tvec) by Levenberg-Marquardt on the selected
+// correspondences and stores it in r as R, t.
+void refinePose(const std::vector<cv::Point3f>& obj, const std::vector<cv::Point2f>& img,
+                const std::vector<int>& selected, const cv::Matx33d& K, cv::Mat& rvec,
+                cv::Mat& tvec, GeometryResult& r) {
+  std::vector<cv::Point3f> oi;
+  std::vector<cv::Point2f> ii;
+  for (int k : selected) {
+    oi.push_back(obj[k]);
+    ii.push_back(img[k]);
+  }
+  cv::solvePnPRefineLM(oi, ii, K, cv::noArray(), rvec, tvec);
+  cv::Mat Rm;
+  cv::Rodrigues(rvec, Rm);
+  r.R = cv::Matx33d(Rm);
+  r.t = cv::Vec3d(tvec.at<double>(0), tvec.at<double>(1), tvec.at<double>(2));
+}
+
 }  // namespace
 
 GeometryResult classifyMotion(const Correspondences& c, const cv::Matx33d& K,
-                              const MotionCheckParams& params) {
+                              const MotionCheckParams& params, const CameraMotion* known) {
   const std::size_t n = c.prev.size();
   CV_Assert(c.cur.size() == n);
   CV_Assert(c.prev_xyz.empty() || c.prev_xyz.size() == n);
@@ -50,51 +68,70 @@ GeometryResult classifyMotion(const Correspondences& c, const cv::Matx33d& K,
   r.fit_points = int(fit.size());
 
   // --- Depth-backed reprojection test (catches motion along epipolar lines).
+  // Residual of point i under (R, t): pixel distance of the moved previous
+  // 3D point from where it was tracked.
+  auto residual = [&](const cv::Matx33d& R, const cv::Vec3d& t, std::size_t i) {
+    const cv::Point3f& X = c.prev_xyz[i];
+    const cv::Vec3d Xc = R * cv::Vec3d(X.x, X.y, X.z) + t;
+    if (Xc[2] <= 1e-6) return std::numeric_limits<float>::infinity();
+    const double u = K(0, 0) * Xc[0] / Xc[2] + K(0, 2);
+    const double v = K(1, 1) * Xc[1] / Xc[2] + K(1, 2);
+    return float(std::hypot(u - c.cur[i].x, v - c.cur[i].y));
+  };
+  // Fit points that give the thresholds their residual scale (all of them,
+  // or with a known motion those it explains; set below).
+  std::vector<int> scale_set = fit;
+  if (known) {
+    r.R = known->R;
+    r.t = known->t;
+  }
   if (!c.prev_xyz.empty()) {
     std::vector<cv::Point3f> obj;
     std::vector<cv::Point2f> img;
+    std::vector<int> obj_index;
     for (int i : fit)
       if (c.prev_xyz[i].z > 0) {
         obj.push_back(c.prev_xyz[i]);
         img.push_back(c.cur[i]);
+        obj_index.push_back(i);
       }
     r.pose_candidates = int(obj.size());
-    if (obj.size() >= 6) {
+    if (known) {
+      // The known motion comes from the map, not from these tracks: refine
+      // it on the points it explains (rolling shutter and depth timing
+      // shift the tracks by a pixel or so), never replace it.
+      std::vector<int> explained;
+      for (std::size_t k = 0; k < obj.size(); ++k)
+        if (residual(known->R, known->t, std::size_t(obj_index[k])) < params.known_motion_gate_px)
+          explained.push_back(int(k));
+      if (explained.size() >= 6) {
+        cv::Mat rvec, tvec = (cv::Mat_<double>(3, 1) << known->t[0], known->t[1], known->t[2]);
+        cv::Rodrigues(cv::Mat(known->R), rvec);
+        refinePose(obj, img, explained, K, rvec, tvec, r);
+      }
+      r.has_pose = true;
+      for (int i : obj_index) r.pose_inliers += residual(r.R, r.t, std::size_t(i)) < params.pnp_inlier_px;
+    } else if (obj.size() >= 6) {
       cv::Mat rvec, tvec;
       std::vector<int> inliers;
       const bool ok = cv::solvePnPRansac(obj, img, K, cv::noArray(), rvec, tvec, false,
                                          params.pnp_iterations, params.pnp_inlier_px,
                                          params.ransac_confidence, inliers, cv::SOLVEPNP_AP3P);
       if (ok && inliers.size() >= 6 && inliers.size() >= params.min_pnp_inlier_ratio * obj.size()) {
-        std::vector<cv::Point3f> oi;
-        std::vector<cv::Point2f> ii;
-        for (int k : inliers) {
-          oi.push_back(obj[k]);
-          ii.push_back(img[k]);
-        }
-        cv::solvePnPRefineLM(oi, ii, K, cv::noArray(), rvec, tvec);
-        cv::Mat Rm;
-        cv::Rodrigues(rvec, Rm);
-        r.R = cv::Matx33d(Rm);
-        r.t = cv::Vec3d(tvec.at<double>(0), tvec.at<double>(1), tvec.at<double>(2));
+        refinePose(obj, img, inliers, K, rvec, tvec, r);
         r.has_pose = true;
         r.pose_inliers = int(inliers.size());
       }
     }
     if (r.has_pose) {
       for (std::size_t i = 0; i < n; ++i) {
-        const cv::Point3f& X = c.prev_xyz[i];
-        if (X.z <= 0) continue;
-        const cv::Vec3d Xc = r.R * cv::Vec3d(X.x, X.y, X.z) + r.t;
-        if (Xc[2] <= 1e-6) {
-          r.reprojection_error[i] = std::numeric_limits<float>::infinity();
+        if (c.prev_xyz[i].z <= 0) continue;
+        r.reprojection_error[i] = residual(r.R, r.t, i);
+        if (!std::isfinite(r.reprojection_error[i]) || c.cur_depth.empty() || c.cur_depth[i] <= 0)
           continue;
-        }
-        const double u = K(0, 0) * Xc[0] / Xc[2] + K(0, 2);
-        const double v = K(1, 1) * Xc[1] / Xc[2] + K(1, 2);
-        r.reprojection_error[i] = float(std::hypot(u - c.cur[i].x, v - c.cur[i].y));
-        if (!c.cur_depth.empty() && c.cur_depth[i] > 0)
-          r.depth_error[i] = float(std::abs(c.cur_depth[i] - Xc[2]) / Xc[2]);
+        const cv::Point3f& X = c.prev_xyz[i];
+        const double z = (r.R * cv::Vec3d(X.x, X.y, X.z) + r.t)[2];
+        r.depth_error[i] = float(std::abs(c.cur_depth[i] - z) / z);
       }
     }
   }
@@ -102,8 +139,16 @@ GeometryResult classifyMotion(const Correspondences& c, const cv::Matx33d& K,
   // --- Epipolar test.
   // Only needed for points without depth or pose (see fundamental_with_pose).
   // Without F, points lacking depth are judged by the region mask alone.
+  // A known motion gives F directly (none when it is a pure rotation).
   const bool need_f = params.fundamental_with_pose || params.always_use_epipolar || !r.has_pose;
-  if (need_f && fit.size() >= 8) {
+  if (known && need_f) {
+    if (cv::norm(r.t) > 1e-3) {
+      const cv::Matx33d tx(0, -r.t[2], r.t[1], r.t[2], 0, -r.t[0], -r.t[1], r.t[0], 0);
+      const cv::Matx33d Ki = K.inv();
+      r.F = Ki.t() * tx * r.R * Ki;
+      r.has_fundamental = true;
+    }
+  } else if (need_f && fit.size() >= 8) {
     std::vector<cv::Point2f> a, b;
     a.reserve(fit.size());
     b.reserve(fit.size());
@@ -116,13 +161,27 @@ GeometryResult classifyMotion(const Correspondences& c, const cv::Matx33d& K,
     if (F.rows == 3 && F.cols == 3) {
       r.has_fundamental = true;
       r.F = cv::Matx33d(F);
-      for (std::size_t i = 0; i < n; ++i) {
-        const cv::Vec3d l = r.F * cv::Vec3d(c.prev[i].x, c.prev[i].y, 1.0);
-        const double norm = std::sqrt(l[0] * l[0] + l[1] * l[1]);
-        if (norm > 0)
-          r.epipolar_error[i] =
-              float(std::abs(l[0] * c.cur[i].x + l[1] * c.cur[i].y + l[2]) / norm);
-      }
+    }
+  }
+  if (r.has_fundamental)
+    for (std::size_t i = 0; i < n; ++i) {
+      const cv::Vec3d l = r.F * cv::Vec3d(c.prev[i].x, c.prev[i].y, 1.0);
+      const double norm = std::sqrt(l[0] * l[0] + l[1] * l[1]);
+      if (norm > 0)
+        r.epipolar_error[i] = float(std::abs(l[0] * c.cur[i].x + l[1] * c.cur[i].y + l[2]) / norm);
+    }
+  if (known) {
+    // The residual scale comes from the points the known motion explains:
+    // by reprojection where there is depth, else by the epipolar distance.
+    // The gate scales with the thresholds for the (one-dimensional)
+    // epipolar distance.
+    const float epi_gate = params.known_motion_gate_px * params.epipolar_threshold_px /
+                           std::max(1e-3f, params.reprojection_threshold_px);
+    scale_set.clear();
+    for (int i : fit) {
+      if (std::isnan(r.reprojection_error[i]) ? r.epipolar_error[i] < epi_gate
+                                               : r.reprojection_error[i] < params.known_motion_gate_px)
+        scale_set.push_back(i);
     }
   }
 
@@ -134,8 +193,8 @@ GeometryResult classifyMotion(const Correspondences& c, const cv::Matx33d& K,
   if (params.adaptive_threshold_k > 0) {
     auto median = [&](const std::vector<float>& e) {
       std::vector<float> v;
-      v.reserve(fit.size());
-      for (int i : fit)
+      v.reserve(scale_set.size());
+      for (int i : scale_set)
         if (std::isfinite(e[i])) v.push_back(e[i]);
       if (v.empty()) return 0.f;
       std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
@@ -152,8 +211,9 @@ GeometryResult classifyMotion(const Correspondences& c, const cv::Matx33d& K,
   // A pose that explains only a small share of the presumably static points
   // means the frame is blurred / rolling-shutter-skewed beyond the rigid
   // model: its per-point verdicts are mostly noise.
-  r.reliable = r.has_pose ? r.pose_inliers >= params.reliable_inlier_ratio * r.pose_candidates
-                          : r.has_fundamental;
+  r.reliable = known ? true
+              : r.has_pose ? r.pose_inliers >= params.reliable_inlier_ratio * r.pose_candidates
+                           : r.has_fundamental;
   if (!r.reliable && params.unreliable_clears_flags) return r;
 
   for (std::size_t i = 0; i < n; ++i) {
@@ -326,7 +386,7 @@ MotionResult MotionConsistencyCheck::classify(
     const std::vector<cv::Point2f>& prev_points, const std::vector<cv::Point2f>& cur_points,
     const std::vector<uint8_t>& valid, const cv::Mat& prev_depth, const cv::Mat& cur_depth,
     const PinholeCamera& camera, const std::vector<Detection>& boxes, cv::Size image_size,
-    const std::vector<uint8_t>* carried_points) {
+    const std::vector<uint8_t>* carried_points, const CameraMotion* known) {
   const std::size_t n = prev_points.size();
   if (cur_points.size() != n || (!valid.empty() && valid.size() != n) ||
       (carried_points && carried_points->size() != n))
@@ -352,13 +412,8 @@ MotionResult MotionConsistencyCheck::classify(
   }
   Correspondences c = buildCorrespondences(raw_prev, raw_cur, prev_depth, cur_depth, camera, boxes,
                                            params_.depth_edge_ratio);
-  if (carried_points && params_.fit_excludes_carried) {
-    for (std::size_t k = 0; k < m; ++k) {
-      if ((*carried_points)[res.tracked_index[k]]) c.in_dynamic_box[k] = 1;
-    }
-  }
   const cv::Matx33d K(camera.fx, 0, camera.cx, 0, camera.fy, camera.cy, 0, 0, 1);
-  res.geometry = classifyMotion(c, K, params_);
+  res.geometry = classifyMotion(c, K, params_, known);
   res.correspondences = std::move(c);
   // Seeds: points moving now and points carried from earlier frames.
   std::vector<uint8_t> moving(m, 0);

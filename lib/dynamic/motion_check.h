@@ -43,8 +43,12 @@
 // region growing like fresh moving points, and a region holding min_seeds of
 // them counts as moving in the region vote. Only the moving points
 // themselves are carried, never a whole region's keypoints: that would let a
-// region sustain itself forever and creep over the static scene. Carried
-// points are also left out of the camera-motion fit (fit_excludes_carried).
+// region sustain itself forever and creep over the static scene.
+//
+// Why a known motion (classify(..., known)): where movers fill the view, the
+// frame-to-frame RANSAC fit can lock onto them and flag the static scene.
+// The tracker's pose comes from the map instead; DynamicFeatureFilter
+// re-judges such frames under it (DynamicFilterParams::recheck_disagreement_px).
 //
 // Per frame (the lead's pipeline):
 //   MotionFrame cur = check.makeFrame(gray, depth);          // pyramid built once
@@ -94,14 +98,12 @@ struct MotionCheckParams {
   /// Back-projection skips pixels whose 3x3 depth neighbourhood spans more
   /// than this fraction (depth edges: foreground or background?).
   float depth_edge_ratio = 0.05f;
-  /// Points carried as moving from earlier frames are left out of the
-  /// motion fit like the points in dynamic boxes: where walkers the detector
-  /// missed fill the view, they would otherwise outnumber the static points
-  /// and become "the camera's motion". (An inverted fit would then sustain
-  /// itself through the carried points; DynamicFeatureFilter::frameTracked
-  /// stops that with the tracker's pose.)
-  bool fit_excludes_carried = false;
   int min_static_points = 20;  ///< below: fit on all points
+  /// With a known camera motion (classifyMotion's `known`): points within
+  /// this reprojection distance (px) of it refine it and give the residual
+  /// scale of the adaptive thresholds (points without depth: within this x
+  /// epipolar_threshold_px / reprojection_threshold_px of their epipolar line).
+  float known_motion_gate_px = 8.0f;
   double ransac_confidence = 0.99;
   int pnp_iterations = 100;
   float pnp_inlier_px = 2.0f;         ///< RANSAC PnP inlier threshold
@@ -156,6 +158,13 @@ struct Correspondences {
   std::vector<uint8_t> in_dynamic_box;
 };
 
+/// A camera motion known from elsewhere (the tracker's poses of the two
+/// frames, fitted on the map rather than on these tracks): X_cur = R X_prev + t.
+struct CameraMotion {
+  cv::Matx33d R = cv::Matx33d::eye();
+  cv::Vec3d t{0, 0, 0};
+};
+
 struct GeometryResult {
   std::vector<uint8_t> dynamic;           ///< 1 = moving
   std::vector<float> epipolar_error;      ///< px; NaN when no F
@@ -188,9 +197,13 @@ Correspondences buildCorrespondences(const std::vector<cv::Point2f>& prev_points
                                      float depth_edge_ratio = 0.05f);
 
 /// Pure geometry: classify correspondences (no images). K: 3x3 intrinsics
-/// of the (undistorted) pixel coordinates in `c`.
+/// of the (undistorted) pixel coordinates in `c`. known (optional): the
+/// camera motion is not fitted by RANSAC but taken from there and refined
+/// on the points it explains within known_motion_gate_px; F then follows
+/// from it, and the frame counts as reliable.
 GeometryResult classifyMotion(const Correspondences& c, const cv::Matx33d& K,
-                              const MotionCheckParams& params);
+                              const MotionCheckParams& params,
+                              const CameraMotion* known = nullptr);
 
 struct MotionResult {
   std::vector<cv::Point2f> cur_points;  ///< tracked positions (valid where tracked)
@@ -237,7 +250,8 @@ class MotionConsistencyCheck {
                         const std::vector<uint8_t>& valid, const cv::Mat& prev_depth,
                         const cv::Mat& cur_depth, const PinholeCamera& camera,
                         const std::vector<Detection>& boxes, cv::Size image_size = {},
-                        const std::vector<uint8_t>* carried = nullptr);
+                        const std::vector<uint8_t>* carried = nullptr,
+                        const CameraMotion* known = nullptr);
 
   const MotionCheckParams& params() const { return params_; }
 

@@ -123,9 +123,14 @@ void FeatureSet::finalize(const cv::Mat& depth_raw, const cv::Mat& rgb,
     depth[i] = static_cast<float>(d);
     ur[i] = static_cast<float>(keys_un[i].pt.x - c.proj.bf / d);
   }
+  buildGrids();
+}
+
+void FeatureSet::buildGrids() {
+  const FrameContext& c = *ctx;
   grid.assign(static_cast<std::size_t>(c.grid_cols * c.grid_rows), {});
   dynamic_grid.assign(grid.size(), {});
-  for (std::size_t i = 0; i < n; ++i) {
+  for (std::size_t i = 0; i < keys_un.size(); ++i) {
     int gx, gy;
     if (c.cellOf(keys_un[i].pt.x, keys_un[i].pt.y, gx, gy))
       (dynamic[i] ? dynamic_grid : grid)[gx * c.grid_rows + gy].push_back(static_cast<int>(i));

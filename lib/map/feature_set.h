@@ -56,6 +56,9 @@ struct FeatureSet {
   /// back into the RGB camera.
   void finalize(const cv::Mat& depth_raw, const cv::Mat& rgb = cv::Mat(),
                 const mrpt::poses::CPose3D* rgb_from_depth = nullptr);
+  /// (Re)builds grid and dynamic_grid from keys_un and dynamic: after
+  /// finalize, when the dynamic flags change.
+  void buildGrids();
 
  private:
   std::vector<int> inArea(const std::vector<std::vector<int>>& cells, float x, float y, float r,

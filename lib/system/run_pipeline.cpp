@@ -109,6 +109,7 @@ RunSummary runSlam(const RunOptions& opt) {
   const std::string masks_dir =
       isDirectory(opt.input + "/masks") ? opt.input + "/masks" : std::string();
   MaskScore mask_total;
+  MaskScore mask_before_tracking;  // the flags tracking used (before frameTracked's revision)
   std::vector<MaskScore> mask_frames;
   std::size_t flagged = 0, keypoints = 0;
   FramePrefetcher frames(*source, n, static_cast<std::size_t>(std::max(0, cfg.system.prefetch_frames)));
@@ -142,6 +143,10 @@ RunSummary runSlam(const RunOptions& opt) {
           if (d.dynamic_class) person_boxes.push_back(d.box);
       mask_frames.push_back(scoreKeypoints(pts, out.features->dynamic, gt, 3, &person_boxes));
       mask_total += mask_frames.back();
+      mask_before_tracking +=
+          out.dynamic_before_tracking.empty()
+              ? mask_frames.back()
+              : scoreKeypoints(pts, out.dynamic_before_tracking, gt, 3, &person_boxes);
     }
     if (filter) {
       for (uint8_t d : out.features->dynamic) flagged += d;
@@ -230,7 +235,7 @@ RunSummary runSlam(const RunOptions& opt) {
         .value("flagged_fraction", keypoints ? double(flagged) / keypoints : 0.0)
         .value("detector_runs", filter->detectorRuns())
         .value("dropped_motion_frames", filter->droppedMotionFrames())
-        .value("inverted_motion_fits", filter->invertedMotionFits())
+        .value("rechecked_frames", filter->recheckedFrames())
         .value("keyframe_masks", keyframe_masks.size())
         .endObject();
   }
@@ -254,6 +259,14 @@ RunSummary runSlam(const RunOptions& opt) {
         .value("standing_points", mask_total.standing_points)
         .value("standing_flagged", mask_total.standing_flagged)
         .value("standing_rejection_rate", mask_total.standingRejectionRate());
+    // The scores above are of the final flags (what mapping uses); tracking
+    // used these, before the frames the tracker's pose revised.
+    w.beginObject("before_tracking")
+        .value("recall", mask_before_tracking.recall())
+        .value("false_rejection_rate", mask_before_tracking.falseRejectionRate())
+        .value("false_rejection_rate_outside_unmasked_person_boxes",
+               mask_before_tracking.falseRejectionRateOutsideUnmaskedBoxes())
+        .endObject();
     w.beginArray("per_frame_walker_points_flagged_static_points_flagged");
     for (const MaskScore& m : mask_frames) {
       w.beginArray()

@@ -52,19 +52,26 @@ FrameOutcome SlamSystem::process(const RGBDFrame& frame) {
 
   FrameOutcome out;
   out.features = feats;
+  // Once the pose is known, the preprocessor may revise the flags (see
+  // ObservationPreprocessor::frameTracked) before the keyframe decision.
+  Tracker::PoseHook on_pose;
+  if (preprocessor_)
+    on_pose = [&](bool has_pose, const mrpt::poses::CPose3D& pose_wc) {
+      cv::Matx44d T = cv::Matx44d::eye();
+      if (has_pose) {
+        const auto H = pose_wc.getHomogeneousMatrixVal<mrpt::math::CMatrixDouble44>();
+        for (int r = 0; r < 4; ++r)
+          for (int c = 0; c < 4; ++c) T(r, c) = H(r, c);
+      }
+      std::vector<uint8_t> before = feats->dynamic;
+      if (!preprocessor_->frameTracked(frame.index, has_pose, T, feats->dynamic)) return false;
+      out.dynamic_before_tracking = std::move(before);
+      feats->buildGrids();
+      return true;
+    };
   {
     std::lock_guard<std::mutex> lk(map_.mutex());
-    out.track = tracker_->track(feats, frame.index, frame.timestamp);
-  }
-  if (preprocessor_) {
-    const bool ok = out.track.has_pose && out.track.state == TrackingState::kOk;
-    cv::Matx44d T = cv::Matx44d::eye();
-    if (ok) {
-      const auto H = out.track.pose_wc.getHomogeneousMatrixVal<mrpt::math::CMatrixDouble44>();
-      for (int r = 0; r < 4; ++r)
-        for (int c = 0; c < 4; ++c) T(r, c) = H(r, c);
-    }
-    preprocessor_->frameTracked(frame.index, ok, T);
+    out.track = tracker_->track(feats, frame.index, frame.timestamp, on_pose);
   }
   const auto t3 = Clock::now();
   if (cfg_.system.deterministic) mapper_->processPending();

@@ -22,7 +22,10 @@ namespace dynslam {
 
 struct FrameOutcome {
   TrackResult track;
-  std::shared_ptr<const FeatureSet> features;
+  std::shared_ptr<const FeatureSet> features;  ///< with the final dynamic flags
+  /// The flags tracking used, when the preprocessor revised them after the
+  /// pose was known (ObservationPreprocessor::frameTracked); else empty.
+  std::vector<uint8_t> dynamic_before_tracking;
 };
 
 class SlamSystem {

@@ -101,17 +101,17 @@ SlamConfig loadSlamConfig(const std::string& path) {
       .read("orb_features", d.orb_features)
       .read("max_motion_fraction", d.max_motion_fraction)
       .read("carry_last_regions", d.carry_last_regions)
-      .read("max_explained_moving", d.max_explained_moving);
+      .read("recheck_disagreement_px", d.recheck_disagreement_px);
   if (d.orb_features != 0 && d.orb_features < 50)
     throw InputError(path, "dynamic: orb_features must be 0 (keep orb.n_features) or >= 50");
   if (d.detector_interval < 1 || d.mask_margin_px < 0 || d.moving_point_radius_px < 0 ||
       d.max_flow_points < 0 || d.carry_frames < 0 || d.carry_frames > 255 ||
       d.min_hint_points < 0 || !(d.max_motion_fraction > 0) || d.max_motion_fraction > 1 ||
-      !(d.max_explained_moving > 0) || d.max_explained_moving > 1)
+      !(d.recheck_disagreement_px >= 0))
     throw InputError(path, "dynamic: detector_interval >= 1, mask_margin_px, "
                            "moving_point_radius_px, max_flow_points, min_hint_points >= 0, "
                            "0 <= carry_frames <= 255, 0 < max_motion_fraction <= 1, "
-                           "0 < max_explained_moving <= 1 required");
+                           "recheck_disagreement_px >= 0 required");
   ConfigSection det = dy.sub("detector");
   std::string model;
   det.read("model", model)
@@ -154,7 +154,7 @@ SlamConfig loadSlamConfig(const std::string& path) {
       .read("region_min_dynamic_ratio", mc.region_min_dynamic_ratio)
       .read("mask_downsample", mc.mask_downsample)
       .read("max_seed_distance_px", mc.max_seed_distance_px)
-      .read("fit_excludes_carried", mc.fit_excludes_carried);
+      .read("known_motion_gate_px", mc.known_motion_gate_px);
   ConfigSection rg = mo.sub("region_grow");
   rg.read("step_tolerance", mc.grow.step_tolerance)
       .read("max_depth_offset_m", mc.grow.max_depth_offset_m)
@@ -164,9 +164,11 @@ SlamConfig loadSlamConfig(const std::string& path) {
   if (mc.lk_downsample != 1 && mc.lk_downsample != 2)
     throw InputError(path, "dynamic.motion_check.lk_downsample must be 1 or 2");
   if (mc.lk_window < 3 || mc.lk_max_level < 0 || mc.mask_downsample < 1 ||
-      !(mc.reliable_inlier_ratio >= 0) || mc.reliable_inlier_ratio > 1)
+      !(mc.reliable_inlier_ratio >= 0) || mc.reliable_inlier_ratio > 1 ||
+      !(mc.known_motion_gate_px > 0))
     throw InputError(path, "dynamic.motion_check: lk_window >= 3, lk_max_level >= 0, "
-                           "mask_downsample >= 1, 0 <= reliable_inlier_ratio <= 1 required");
+                           "mask_downsample >= 1, 0 <= reliable_inlier_ratio <= 1, "
+                           "known_motion_gate_px > 0 required");
   dy.rejectUnknownKeys();
 
   loop::LoopClosingParams& l = c.loop;

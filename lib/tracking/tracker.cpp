@@ -26,7 +26,7 @@ Tracker::Tracker(Map& map, KeyFrameSink& sink, const TrackerParams& params,
 Tracker::~Tracker() = default;
 
 TrackResult Tracker::track(std::shared_ptr<const FeatureSet> features, std::size_t index,
-                           double timestamp) {
+                           double timestamp, const PoseHook& on_pose) {
   last_ = std::move(cur_);
   cur_ = Frame(next_frame_id_++, index, timestamp, std::move(features));
   TrackResult res;
@@ -36,6 +36,7 @@ TrackResult Tracker::track(std::shared_ptr<const FeatureSet> features, std::size
       state_ = TrackingState::kOk;
       res.new_keyframe = true;
     }
+    if (on_pose) on_pose(state_ == TrackingState::kOk, cur_.pose.wc());
   } else {
     bool ok = false;
     if (state_ == TrackingState::kOk) {
@@ -58,6 +59,13 @@ TrackResult Tracker::track(std::shared_ptr<const FeatureSet> features, std::size
       // Matches marked outliers by the optimiser are dropped for the next frame.
       for (std::size_t i = 0; i < cur_.points.size(); ++i)
         if (cur_.points[i] && cur_.outlier[i]) cur_.points[i] = nullptr;
+    } else {
+      state_ = TrackingState::kLost;
+      velocity_valid_ = false;
+      cur_.has_pose = false;
+    }
+    if (on_pose && on_pose(ok, cur_.pose.wc()) && ok) dropMatchesOnDynamic();
+    if (ok) {
       if (needNewKeyFrame()) {
         createKeyFrame();
         res.new_keyframe = true;
@@ -66,10 +74,6 @@ TrackResult Tracker::track(std::shared_ptr<const FeatureSet> features, std::size
       for (std::size_t i = 0; i < cur_.points.size(); ++i)
         if (cur_.points[i] && cur_.points[i]->nObs() == 0 && !cur_.points[i]->ref_kf)
           cur_.points[i] = nullptr;
-    } else {
-      state_ = TrackingState::kLost;
-      velocity_valid_ = false;
-      cur_.has_pose = false;
     }
   }
 
@@ -428,6 +432,19 @@ bool Tracker::trackLocalMap() {
     }
   }
   return inliers_ >= p_.min_inliers_local;
+}
+
+void Tracker::dropMatchesOnDynamic() {
+  const FeatureSet& f = cur_.f();
+  inliers_ = 0;
+  for (std::size_t i = 0; i < cur_.points.size(); ++i) {
+    if (!cur_.points[i]) continue;
+    if (f.dynamic[i]) {
+      cur_.points[i] = nullptr;
+      continue;
+    }
+    if (!cur_.outlier[i] && cur_.points[i]->nObs() > 0) ++inliers_;
+  }
 }
 
 bool Tracker::needNewKeyFrame() const {

@@ -83,9 +83,15 @@ class Tracker {
           const PoseOptimizerParams& optim = {});
   ~Tracker();
 
+  /// Called once the frame's pose is known (has_pose false: lost), before
+  /// the keyframe decision; returns true when it changed the frame's
+  /// dynamic flags (and rebuilt its grids), see
+  /// ObservationPreprocessor::frameTracked.
+  using PoseHook = std::function<bool(bool has_pose, const mrpt::poses::CPose3D& pose_wc)>;
+
   /// Tracks one frame. `features` must be finalised (FeatureSet::finalize).
   TrackResult track(std::shared_ptr<const FeatureSet> features, std::size_t index,
-                    double timestamp);
+                    double timestamp, const PoseHook& on_pose = {});
 
   TrackingState state() const { return state_; }
   /// Optional; not owned.
@@ -129,6 +135,9 @@ class Tracker {
   void searchLocalPoints();
   bool needNewKeyFrame() const;
   void createKeyFrame();
+  /// After on_pose changed the flags: matches on keypoints now dynamic go,
+  /// and inliers_ is recounted.
+  void dropMatchesOnDynamic();
   void updateLastFrame();
   /// Keypoints with depth, nearest first: every close one (depth below
   /// close_depth) and at least kf_min_new_points in all.

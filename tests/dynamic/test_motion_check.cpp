@@ -147,6 +147,38 @@ TEST(ClassifyMotion, DetectorBoxesKeepACrowdOutOfTheFit) {
   EXPECT_LT(r.false_positive, 0.05);
 }
 
+// 70 % of the points move together and no box marks them: RANSAC takes
+// their motion for the camera's and flags the static points. Given the true
+// camera motion (as the tracker has it from the map), slightly off, the
+// check refines it on the points it explains and flags the crowd instead.
+TEST(ClassifyMotion, KnownMotionOverridesACrowdThatHijacksTheFit) {
+  const Scene s = makeScene(120, 280, 0, 0.3, 5);
+  const GeometryResult fitted = classifyMotion(s.c, kK, MotionCheckParams());
+  ASSERT_GT(rates(s, fitted.dynamic).false_positive, 0.5);  // hijacked
+  CameraMotion known;
+  cv::Rodrigues(cv::Vec3d(0.02 + 0.002, -0.045, 0.01), known.R);  // ~0.1 deg off
+  known.t = cv::Vec3d(0.12, 0.02 + 0.005, 0.03);                   // 5 mm off
+  const GeometryResult g = classifyMotion(s.c, kK, MotionCheckParams(), &known);
+  EXPECT_TRUE(g.reliable);
+  ASSERT_TRUE(g.has_pose);
+  ASSERT_TRUE(g.has_fundamental);
+  cv::Matx33d R;
+  cv::Rodrigues(cv::Vec3d(0.02, -0.045, 0.01), R);
+  EXPECT_LT(cv::norm(g.t - cv::Vec3d(0.12, 0.02, 0.03)), 0.003);  // refined
+  EXPECT_LT(cv::norm(g.R - R), 0.002);
+  const Rates r = rates(s, g.dynamic);
+  EXPECT_GT(r.recall_across, 0.95);
+  EXPECT_LT(r.false_positive, 0.05);
+  // Without depth the known motion still gives the epipolar test its F.
+  Scene flat = s;
+  flat.c.prev_xyz.clear();
+  flat.c.cur_depth.clear();
+  const GeometryResult e = classifyMotion(flat.c, kK, MotionCheckParams(), &known);
+  ASSERT_TRUE(e.has_fundamental);
+  EXPECT_GT(rates(flat, e.dynamic).recall_across, 0.9);
+  EXPECT_LT(rates(flat, e.dynamic).false_positive, 0.05);
+}
+
 TEST(ClassifyMotion, StaticSceneHasNoDynamicPoints) {
   const Scene s = makeScene(300, 0, 0, 0.3, 4);
   const GeometryResult g = classifyMotion(s.c, kK, MotionCheckParams());

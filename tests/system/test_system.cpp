@@ -258,11 +258,12 @@ TEST(SystemBadInput, ReliableInlierRatioOutOfRange) {
                          "reliable_inlier_ratio");
 }
 
-TEST(SystemBadInput, FitCheckValuesRejected) {
-  for (const std::string v : {"0", "1.5", "-0.2"})
-    expectConfigRejected("dynamic:\n  max_explained_moving: " + v + "\n", "max_explained_moving");
-  expectConfigRejected("dynamic:\n  motion_check:\n    fit_excludes_carried: maybe\n",
-                       "fit_excludes_carried");
+TEST(SystemBadInput, RecheckValuesRejected) {
+  for (const std::string v : {"-1", "-0.2", "abc"})
+    expectConfigRejected("dynamic:\n  recheck_disagreement_px: " + v + "\n", "recheck_disagreement_px");
+  for (const std::string v : {"0", "-3", "abc"})
+    expectConfigRejected("dynamic:\n  motion_check:\n    known_motion_gate_px: " + v + "\n",
+                         "known_motion_gate_px");
 }
 
 // A configured vocabulary that does not exist stops the run before any
