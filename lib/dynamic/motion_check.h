@@ -103,7 +103,7 @@ struct MotionCheckParams {
   /// this reprojection distance (px) of it refine it and give the residual
   /// scale of the adaptive thresholds (points without depth: within this x
   /// epipolar_threshold_px / reprojection_threshold_px of their epipolar line).
-  float known_motion_gate_px = 8.0f;
+  float known_motion_gate_px = 3.0f;
   double ransac_confidence = 0.99;
   int pnp_iterations = 100;
   float pnp_inlier_px = 2.0f;         ///< RANSAC PnP inlier threshold
