@@ -436,6 +436,12 @@ TEST(SystemDynamic, ScoresAgainstTrueMasksOfAComposite) {
     cv::FileNode m = report["mask_scores"];
     EXPECT_EQ(static_cast<int>(m["frames_scored"]), 30);
     EXPECT_EQ(static_cast<int>(m["per_frame_walker_points_flagged_static_points_flagged"].size()), 30);
+    // The flags tracking used, before the re-check after tracking revised them.
+    const cv::FileNode before = m["before_tracking"];
+    EXPECT_TRUE(before.isMap());
+    EXPECT_GE(static_cast<double>(before["recall"]), 0.0);
+    EXPECT_LE(static_cast<double>(before["recall"]), 1.0);
+    if (mode == "off") EXPECT_EQ(static_cast<double>(before["recall"]), 0.0);
     return std::make_tuple(static_cast<int>(m["walker_points"]), static_cast<int>(m["walker_flagged"]),
                            static_cast<double>(m["recall"]),
                            static_cast<double>(m["false_rejection_rate"]));
