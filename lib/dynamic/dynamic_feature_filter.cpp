@@ -196,8 +196,11 @@ void DynamicFeatureFilter::process(const RGBDFrame& frame, const cv::Mat& gray,
     rc.box_mask = box_mask;
     rc.boxes = boxes_now_;
     rc.keypoints = keypoints;
-    rc.fit = ev.r.geometry;
-    rc.correspondences = ev.r.correspondences;
+    rc.fit_reliable = ev.r.geometry.reliable;
+    rc.fit_has_pose = ev.r.geometry.has_pose;
+    rc.fit_R = ev.r.geometry.R;
+    rc.fit_t = ev.r.geometry.t;
+    rc.prev_xyz = ev.r.correspondences.prev_xyz;
     rc.dropped = false;
   }
   if (!debug_dir_.empty()) {
@@ -271,7 +274,8 @@ bool DynamicFeatureFilter::frameTracked(std::size_t index, bool has_pose,
                                         const cv::Matx44d& pose_wc, std::vector<uint8_t>& dynamic) {
   const long f = long(index);
   bool changed = false;
-  if (has_pose && tracked_frame_ == f - 1 && recheck_.frame == f && dynamic.size() == recheck_.keypoints.size())
+  if (has_pose && tracked_frame_ == f - 1 && recheck_.frame == f &&
+      dynamic.size() == recheck_.keypoints.size())
     changed = recheck(tracked_pose_, pose_wc, dynamic);
   tracked_frame_ = has_pose ? f : -1;
   tracked_pose_ = pose_wc;
@@ -339,15 +343,14 @@ bool DynamicFeatureFilter::recheck(const cv::Matx44d& prev_pose_wc, const cv::Ma
   CameraMotion known;
   known.R = rel.get_minor<3, 3>(0, 0);
   known.t = cv::Vec3d(rel(0, 3), rel(1, 3), rel(2, 3));
-  bool needed = rc.dropped || !rc.fit.reliable || !rc.fit.has_pose;
+  bool needed = rc.dropped || !rc.fit_reliable || !rc.fit_has_pose;
   if (!needed) {
     // Median pixel distance between the fit's and the tracker's prediction
     // of the depth-backed points.
     std::vector<float> d;
-    const Correspondences& c = rc.correspondences;
-    for (const cv::Point3f& X : c.prev_xyz) {
+    for (const cv::Point3f& X : rc.prev_xyz) {
       if (X.z <= 0) continue;
-      const cv::Vec3d a = rc.fit.R * cv::Vec3d(X.x, X.y, X.z) + rc.fit.t;
+      const cv::Vec3d a = rc.fit_R * cv::Vec3d(X.x, X.y, X.z) + rc.fit_t;
       const cv::Vec3d b = known.R * cv::Vec3d(X.x, X.y, X.z) + known.t;
       if (a[2] <= 1e-6 || b[2] <= 1e-6) continue;
       d.push_back(float(std::hypot(camera_.fx * (a[0] / a[2] - b[0] / b[2]),

@@ -201,9 +201,12 @@ class DynamicFeatureFilter : public ObservationPreprocessor {
     cv::Mat prev_depth, cur_depth, box_mask;
     std::vector<Detection> boxes;
     std::vector<cv::KeyPoint> keypoints;
-    GeometryResult fit;
-    Correspondences correspondences;
-    bool dropped = false;
+    // The frame-to-frame fit: whether it was trusted, and its motion.
+    bool fit_reliable = false, fit_has_pose = false;
+    cv::Matx33d fit_R;
+    cv::Vec3d fit_t;
+    std::vector<cv::Point3f> prev_xyz;  // depth-backed previous points (z <= 0: none)
+    bool dropped = false;  // over the motion budget (max_motion_fraction)
   } recheck_;
   std::size_t rechecked_frames_ = 0;
 

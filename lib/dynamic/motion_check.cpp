@@ -110,7 +110,8 @@ GeometryResult classifyMotion(const Correspondences& c, const cv::Matx33d& K,
         refinePose(obj, img, explained, K, rvec, tvec, r);
       }
       r.has_pose = true;
-      for (int i : obj_index) r.pose_inliers += residual(r.R, r.t, std::size_t(i)) < params.pnp_inlier_px;
+      for (int i : obj_index)
+        r.pose_inliers += residual(r.R, r.t, std::size_t(i)) < params.pnp_inlier_px;
     } else if (obj.size() >= 6) {
       cv::Mat rvec, tvec;
       std::vector<int> inliers;
@@ -179,9 +180,10 @@ GeometryResult classifyMotion(const Correspondences& c, const cv::Matx33d& K,
                            std::max(1e-3f, params.reprojection_threshold_px);
     scale_set.clear();
     for (int i : fit) {
-      if (std::isnan(r.reprojection_error[i]) ? r.epipolar_error[i] < epi_gate
-                                               : r.reprojection_error[i] < params.known_motion_gate_px)
-        scale_set.push_back(i);
+      const bool explained = std::isnan(r.reprojection_error[i])
+                                 ? r.epipolar_error[i] < epi_gate
+                                 : r.reprojection_error[i] < params.known_motion_gate_px;
+      if (explained) scale_set.push_back(i);
     }
   }
 

@@ -441,7 +441,9 @@ TEST(SystemDynamic, ScoresAgainstTrueMasksOfAComposite) {
     EXPECT_TRUE(before.isMap());
     EXPECT_GE(static_cast<double>(before["recall"]), 0.0);
     EXPECT_LE(static_cast<double>(before["recall"]), 1.0);
-    if (mode == "off") EXPECT_EQ(static_cast<double>(before["recall"]), 0.0);
+    if (mode == "off") {
+      EXPECT_EQ(static_cast<double>(before["recall"]), 0.0);
+    }
     return std::make_tuple(static_cast<int>(m["walker_points"]), static_cast<int>(m["walker_flagged"]),
                            static_cast<double>(m["recall"]),
                            static_cast<double>(m["false_rejection_rate"]));
