@@ -368,7 +368,13 @@ bool DynamicFeatureFilter::recheck(const cv::Matx44d& prev_pose_wc, const cv::Ma
                           camera_, rc.boxes, rc.cur_depth.size(), &rc.prev_age, &known);
   ev.mask = ev.r.mask;
   collectMoving(ev, rc.cur_points, rc.tracked, rc.prev_age);
+  const cv::Mat before = mask_.clone();
   const std::size_t flagged = flagEvidence(ev, rc.box_mask, rc.keypoints, dynamic);
+  // The flags are the new judgement's; the pixel mask (lastMask(), what the
+  // dense export leaves out of a keyframe) keeps both: a pixel either
+  // judgement saw moving stays out of the map, which other keyframes fill in
+  // (rpy_walkers ghost share 0.19-0.23 % instead of 0.35-0.51 %).
+  mask_ |= before;
   ++rechecked_frames_;
   times_["recheck"].push_back(msSince(t0));
   writeDebugImage(rc.box_mask, ev.mask);

@@ -111,7 +111,8 @@ class DynamicFeatureFilter : public ObservationPreprocessor {
   bool frameTracked(std::size_t index, bool has_pose, const cv::Matx44d& pose_wc,
                     std::vector<uint8_t>& dynamic) override;
 
-  /// Dynamic-pixel mask (CV_8U, 255 = dynamic) of the last processed frame.
+  /// Dynamic-pixel mask (CV_8U, 255 = dynamic) of the last processed frame;
+  /// after a re-check (frameTracked), the union of both judgements.
   const cv::Mat& lastMask() const { return mask_; }
   /// Detector boxes (carried to the frame) used for the last processed frame.
   const std::vector<Detection>& lastBoxes() const { return boxes_now_; }

@@ -244,7 +244,16 @@ TEST(DynamicFeatureFilterRecheck, TrackersMotionCorrectsAFitHijackedByACrowd) {
     filter.process(s.frames[k], s.gray[k], s.keypoints[k], dyn);
     without.process(s.frames[k], s.gray[k], s.keypoints[k], plain);
     const Shares before = scoreCrowd(s.keypoints[k], dyn, int(k));
+    const std::vector<uint8_t> pre = dyn;
     const bool changed = filter.frameTracked(k, true, slidingCamera(k), dyn);
+    // The pixel mask (what the dense export leaves out) keeps both
+    // judgements: every keypoint flagged before or after lies on it.
+    std::size_t off_mask = 0;
+    for (std::size_t i = 0; i < dyn.size(); ++i) {
+      const cv::Point q(cvRound(s.keypoints[k][i].pt.x), cvRound(s.keypoints[k][i].pt.y));
+      if ((pre[i] || dyn[i]) && !filter.lastMask().at<uint8_t>(q)) ++off_mask;
+    }
+    EXPECT_EQ(off_mask, 0u) << k;
     EXPECT_FALSE(without.frameTracked(k, false, cv::Matx44d::eye(), plain));
     const Shares after = scoreCrowd(s.keypoints[k], dyn, int(k));
     const Shares hijacked = scoreCrowd(s.keypoints[k], plain, int(k));
