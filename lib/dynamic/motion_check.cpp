@@ -109,9 +109,7 @@ GeometryResult classifyMotion(const Correspondences& c, const cv::Matx33d& K,
         cv::Rodrigues(cv::Mat(known->R), rvec);
         refinePose(obj, img, explained, K, rvec, tvec, r);
       }
-      r.has_pose = true;
-      for (int i : obj_index)
-        r.pose_inliers += residual(r.R, r.t, std::size_t(i)) < params.pnp_inlier_px;
+      r.has_pose = true;  // pose_inliers: counted from the residuals below
     } else if (obj.size() >= 6) {
       cv::Mat rvec, tvec;
       std::vector<int> inliers;
@@ -134,6 +132,8 @@ GeometryResult classifyMotion(const Correspondences& c, const cv::Matx33d& K,
         const double z = (r.R * cv::Vec3d(X.x, X.y, X.z) + r.t)[2];
         r.depth_error[i] = float(std::abs(c.cur_depth[i] - z) / z);
       }
+      if (known)
+        for (int i : obj_index) r.pose_inliers += r.reprojection_error[i] < params.pnp_inlier_px;
     }
   }
 

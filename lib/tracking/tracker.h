@@ -86,7 +86,9 @@ class Tracker {
   /// Called once the frame's pose is known (has_pose false: lost), before
   /// the keyframe decision; returns true when it changed the frame's
   /// dynamic flags (and rebuilt its grids), see
-  /// ObservationPreprocessor::frameTracked.
+  /// ObservationPreprocessor::frameTracked. On the frame that initialises
+  /// the map it runs after the first keyframe is made (that frame has no
+  /// previous one to be re-judged against, so its flags do not change).
   using PoseHook = std::function<bool(bool has_pose, const mrpt::poses::CPose3D& pose_wc)>;
 
   /// Tracks one frame. `features` must be finalised (FeatureSet::finalize).
