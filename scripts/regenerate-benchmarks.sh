@@ -1,9 +1,11 @@
 #!/usr/bin/env bash
 # Regenerates docs/benchmarks.md and docs/images/bench/ from scratch:
 #   1. Release build of `dynslam` and the micro-benchmarks (apps/bench/);
-#   2. the rpy_walkers composite sequence, built once into the cache folder;
-#   3. `dynslam bench` on fr1_rpy (off, detect+flow) and rpy_walkers (all four
-#      modes), 3 runs each, with plots;
+#   2. the rpy_walkers, rpy_close and rpy_panel composite sequences, built
+#      once into the cache folder;
+#   3. `dynslam bench` on fr1_rpy (off, detect+flow; 5 runs each), rpy_walkers
+#      (all four modes), rpy_close and rpy_panel (off, detect+flow), 3 runs
+#      each, with plots;
 #   4. conversion / export / render timings and the micro-benchmarks;
 #   5. docs/benchmarks.md from scripts/benchmarks.md.in, every number generated.
 #
@@ -12,7 +14,7 @@
 #             of the script: the page then says so at the top).
 #   --clean   delete BUILD_DIR first (a build from scratch).
 # environment: BUILD_DIR (default build), JOBS (default: nproc),
-#   DYNSLAM_CACHE (default out/bench-cache: composite sequence),
+#   DYNSLAM_CACHE (default out/bench-cache: composite sequences),
 #   BENCH_OUT (default out/bench: run folders and full reports),
 #   DYNSLAM_SHARED_DIR (default ../shared).
 set -euo pipefail
@@ -25,7 +27,7 @@ for a in "$@"; do
   case "$a" in
     --quick) QUICK=1 ;;
     --clean) CLEAN=1 ;;
-    -h|--help) sed -n '2,18p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,20p' "$0"; exit 0 ;;
     *) echo "regenerate-benchmarks.sh: unknown argument '$a' (try --help)" >&2; exit 2 ;;
   esac
 done
@@ -46,9 +48,9 @@ START=$(date +%s)
 LOAD_START="$(cut -d' ' -f1-3 /proc/loadavg)"
 
 if [ "$QUICK" = 1 ]; then
-  RUNS=1; LIMIT=(--max-frames 100); TOOL_RUNS=1
+  RUNS=1; STATIC_RUNS=1; LIMIT=(--max-frames 100); TOOL_RUNS=1
 else
-  RUNS=3; LIMIT=(); TOOL_RUNS=3
+  RUNS=3; STATIC_RUNS=5; LIMIT=(); TOOL_RUNS=3
 fi
 say() { printf '\n== %s\n' "$*" >&2; }
 [ -d "$RPY" ] || { echo "missing $RPY (set DYNSLAM_SHARED_DIR)" >&2; exit 1; }
@@ -66,15 +68,23 @@ done
 DYNSLAM="$BUILD_DIR/apps/dynslam"
 
 # ------------------------------------------------------- 2. composite data
-if [ ! -f "$WALKERS/groundtruth.txt" ] || [ ! -d "$WALKERS/masks" ]; then
-  say "building the rpy_walkers composite into $WALKERS"
-  PY=/usr/bin/python3; [ -x "$PY" ] || PY=python3
-  mkdir -p "$CACHE"
-  rm -rf "$WALKERS.tmp"
-  "$PY" "$SHARED/tools/make_dynamic_sequence.py" "$SHARED/data/scenarios/rpy_walkers.json" "$RPY" "$WALKERS.tmp"
-  rm -rf "$WALKERS"
-  mv "$WALKERS.tmp" "$WALKERS"
-fi
+composite() {  # SCENARIO -> the composite folder, built once
+  local dir="$CACHE/rgbd_dataset_freiburg1_$1"
+  if [ ! -f "$dir/groundtruth.txt" ] || [ ! -d "$dir/masks" ]; then
+    say "building the $1 composite into $dir"
+    local PY=/usr/bin/python3; [ -x "$PY" ] || PY=python3
+    mkdir -p "$CACHE"
+    rm -rf "$dir.tmp"
+    "$PY" "$SHARED/tools/make_dynamic_sequence.py" "$SHARED/data/scenarios/$1.json" "$RPY" "$dir.tmp" >&2
+    rm -rf "$dir"
+    mv "$dir.tmp" "$dir"
+  fi
+}
+composite rpy_walkers
+composite rpy_close
+composite rpy_panel
+CLOSE="$CACHE/rgbd_dataset_freiburg1_rpy_close"
+PANEL="$CACHE/rgbd_dataset_freiburg1_rpy_panel"
 
 # Issue 7 scenarios, made from fr1_rpy's lists (images linked, not copied):
 # a 40-frame blackout in the middle (frames 330..369 removed), and the whole
@@ -115,15 +125,17 @@ rm -rf "$OUT"
 mkdir -p "$OUT"
 BENCH_CMDS=()
 FAILED_BENCH=0
-run_bench() {  # NAME SEQ MODES
-  local cmd=("$DYNSLAM" bench "$2" -o "$OUT/$1" --modes "$3" --runs "$RUNS" "${LIMIT[@]}" --plots)
+run_bench() {  # NAME SEQ MODES [RUNS]
+  local cmd=("$DYNSLAM" bench "$2" -o "$OUT/$1" --modes "$3" --runs "${4:-$RUNS}" "${LIMIT[@]}" --plots)
   BENCH_CMDS+=("${cmd[*]}")
   say "${cmd[*]}"
   "${cmd[@]}" || FAILED_BENCH=1  # failures are listed in the report
   [ -f "$OUT/$1/report.md" ] || { echo "no report from $1" >&2; exit 1; }
 }
-run_bench fr1_rpy "$RPY" off,detect+flow
+run_bench fr1_rpy "$RPY" off,detect+flow "$STATIC_RUNS"
 run_bench rpy_walkers "$WALKERS" off,detect,flow,detect+flow
+run_bench rpy_close "$CLOSE" off,detect+flow
+run_bench rpy_panel "$PANEL" off,detect+flow
 run_bench fr1_rpy_gap40 "$GAP" off
 run_bench fr1_rpy_twice "$TWICE" off
 
@@ -196,7 +208,7 @@ rm -rf "$IMAGES"
 mkdir -p "$IMAGES"
 REPORTS_MD="$OUT/reports.md"
 : >"$REPORTS_MD"
-for bench in fr1_rpy rpy_walkers fr1_rpy_gap40 fr1_rpy_twice; do
+for bench in fr1_rpy rpy_walkers rpy_close rpy_panel fr1_rpy_gap40 fr1_rpy_twice; do
   (cd "$OUT/$bench" && find . -mindepth 3 -maxdepth 3 -name '*.png' -print0 | xargs -0 -I{} cp --parents {} "$IMAGES/")
   # Titles one level down, image links into docs/images/bench, paths relative.
   # From the first sequence heading on (the page explains the columns once).

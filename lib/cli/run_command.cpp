@@ -28,9 +28,9 @@ int runMain(int argc, char** argv) {
   TCLAP::ValuesConstraint<std::string> mode_values(modes);
   TCLAP::ValueArg<std::string> mode(
       "", "mode",
-      "dynamic-feature rejection: off (plain SLAM, the default for now), detect (YOLO boxes), "
-      "flow (LK motion check) or detect+flow",
-      false, "off", &mode_values, cmd);
+      "dynamic-feature rejection: detect+flow (YOLO boxes and the LK motion check, the "
+      "default), detect (boxes only), flow (motion check only) or off (plain SLAM)",
+      false, "detect+flow", &mode_values, cmd);
   TCLAP::ValueArg<std::size_t> max_frames("", "max-frames", "process only the first N frames",
                                           false, 0, "N", cmd);
   TCLAP::SwitchArg deterministic("", "deterministic",

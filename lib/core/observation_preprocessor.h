@@ -12,23 +12,37 @@
 
 namespace dynslam {
 
+/// What the tracker knows of a frame once it has estimated its pose.
+struct TrackedPose {
+  bool has_pose = false;
+  cv::Matx44d pose_wc = cv::Matx44d::eye();  ///< camera-to-world
+  /// One per keypoint: 1 = matched to a map point and consistent with the
+  /// pose (the map's evidence that the keypoint is static).
+  std::vector<uint8_t> map_inliers;
+};
+
 class ObservationPreprocessor {
  public:
   virtual ~ObservationPreprocessor() = default;
+  /// Before feature extraction: the pixels expected to be dynamic (CV_8U,
+  /// 255 = dynamic) or an empty matrix. The extractor spends its keypoint
+  /// budget outside them, so a frame half covered by movers keeps its count
+  /// of static keypoints. Called once per frame, before process().
+  virtual cv::Mat prepare(const RGBDFrame& /*frame*/, const cv::Mat& /*gray*/) { return {}; }
   /// `dynamic` has one entry per keypoint (raw, distorted pixel positions),
   /// all 0 on entry; set 1 for keypoints SLAM must ignore.
   virtual void process(const RGBDFrame& frame, const cv::Mat& gray,
                        const std::vector<cv::KeyPoint>& keypoints,
                        std::vector<uint8_t>& dynamic) = 0;
-  /// After the tracker has the pose of the frame last given to process(),
-  /// before it decides on a keyframe: whether it got a pose, that pose
-  /// (camera-to-world, 4x4), and the frame's flags as process() left them.
-  /// The tracker's pose comes from the map, so it can show that process()
-  /// judged the frame wrongly; return true after changing `dynamic` (the
-  /// tracker then drops its matches on keypoints now dynamic, and the new
-  /// flags are what mapping sees). The default changes nothing.
-  virtual bool frameTracked(std::size_t /*index*/, bool /*has_pose*/,
-                            const cv::Matx44d& /*pose_wc*/, std::vector<uint8_t>& /*dynamic*/) {
+  /// After the tracker has estimated the pose of the frame last given to
+  /// process(), before it decides on a keyframe, with the frame's flags as
+  /// process() left them. The tracker's pose comes from the map, so it can
+  /// show that process() judged the frame wrongly; return true after
+  /// changing `dynamic` (the tracker then drops its matches on keypoints now
+  /// dynamic, and the new flags are what mapping sees). The default changes
+  /// nothing.
+  virtual bool frameTracked(std::size_t /*index*/, const TrackedPose& /*pose*/,
+                            std::vector<uint8_t>& /*dynamic*/) {
     return false;
   }
 };

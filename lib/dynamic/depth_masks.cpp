@@ -89,14 +89,63 @@ cv::Mat BoxDepthMasker::computeFromBoxes(const cv::Mat& depth, double depth_scal
     if (z <= 0) continue;
     const double lo = std::max(1.0, (z - params_.depth_band_m) * depth_scale);
     const double hi = (z + params_.depth_band_m) * depth_scale;
-    for (int y = box.y; y < box.y + box.height; ++y) {
-      const uint16_t* row = depth.ptr<uint16_t>(y);
-      uint8_t* m = mask.ptr<uint8_t>(y);
-      for (int x = box.x; x < box.x + box.width; ++x)
+    const cv::Mat roi = depth(box);
+    cv::Mat band(box.size(), CV_8U, cv::Scalar(0));
+    for (int y = 0; y < box.height; ++y) {
+      const uint16_t* row = roi.ptr<uint16_t>(y);
+      uint8_t* m = band.ptr<uint8_t>(y);
+      for (int x = 0; x < box.width; ++x)
         if (row[x] >= lo && row[x] <= hi) m[x] = 255;
     }
+    if (params_.connected_step > 0) keepObjectComponents(roi, band);
+    mask(box) |= band;
   }
   return mask;
+}
+
+void BoxDepthMasker::keepObjectComponents(const cv::Mat& depth, cv::Mat& band) const {
+  // Depth steps cut the band into surfaces; the object is what lies in the
+  // box's centre. Other surfaces at about the same depth (a monitor beside a
+  // person 1 m away, a desk edge) are not joined to it across a step.
+  const cv::Mat in_band = band.clone();
+  cv::Mat hi, lo;
+  cv::dilate(depth, hi, cv::Mat());
+  cv::erode(depth, lo, cv::Mat());
+  for (int y = 0; y < band.rows; ++y) {
+    const uint16_t* d = depth.ptr<uint16_t>(y);
+    const uint16_t* a = hi.ptr<uint16_t>(y);
+    const uint16_t* b = lo.ptr<uint16_t>(y);
+    uint8_t* m = band.ptr<uint8_t>(y);
+    for (int x = 0; x < band.cols; ++x)
+      if (m[x] && (b[x] == 0 || a[x] - b[x] > params_.connected_step * d[x])) m[x] = 0;
+  }
+  cv::Mat labels;
+  const int n = cv::connectedComponents(band, labels, 8, CV_32S);
+  if (n <= 2) {  // one surface (or none): the band as it was
+    band = in_band;
+    return;
+  }
+  const float f = std::clamp(params_.center_fraction, 0.05f, 1.0f);
+  const int cw = std::max(1, int(band.cols * f)), ch = std::max(1, int(band.rows * f));
+  const cv::Rect center((band.cols - cw) / 2, (band.rows - ch) / 2, cw, ch);
+  std::vector<int> in_center(n, 0);
+  for (int y = center.y; y < center.y + center.height; ++y) {
+    const int* l = labels.ptr<int>(y);
+    for (int x = center.x; x < center.x + center.width; ++x) ++in_center[l[x]];
+  }
+  in_center[0] = 0;
+  const int best = *std::max_element(in_center.begin(), in_center.end());
+  std::vector<uint8_t> keep(n, 0);
+  for (int l = 1; l < n; ++l) keep[l] = best > 0 && in_center[l] >= 0.1 * best;
+  for (int y = 0; y < band.rows; ++y) {
+    const int* l = labels.ptr<int>(y);
+    uint8_t* m = band.ptr<uint8_t>(y);
+    for (int x = 0; x < band.cols; ++x) m[x] = keep[l[x]] ? 255 : 0;
+  }
+  // Give back the step pixels on the object's rim (the cut ate up to two
+  // layers of them where the outline runs diagonally).
+  cv::dilate(band, band, cv::Mat(), cv::Point(-1, -1), 2);
+  band &= in_band;
 }
 
 int DepthRegionGrower::growRegions(const cv::Mat& depth, double depth_scale,

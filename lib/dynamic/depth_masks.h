@@ -35,6 +35,10 @@ struct BoxDepthParams {
   /// Grow each box by this fraction of its size on every side (boxes are
   /// often a little tight on hands and feet).
   float box_padding = 0.05f;
+  /// Inside a box, pixels whose 3x3 depth spread exceeds this share of their
+  /// depth separate surfaces, and only the surfaces in the box's centre are
+  /// the object (0 = every pixel in the band).
+  float connected_step = 0.04f;
   /// Only boxes with Detection::dynamic_class are used.
   bool dynamic_classes_only = true;
 };
@@ -63,6 +67,8 @@ class BoxDepthMasker {
   const BoxDepthParams& params() const { return params_; }
 
  private:
+  /// Keeps the surfaces of `band` (CV_8U, in the box) in the box's centre.
+  void keepObjectComponents(const cv::Mat& depth, cv::Mat& band) const;
   BoxDepthParams params_;
 };
 

@@ -128,18 +128,18 @@ void DynamicFeatureFilter::selectFlowPoints(const std::vector<cv::KeyPoint>& key
   }
 }
 
-void DynamicFeatureFilter::process(const RGBDFrame& frame, const cv::Mat& gray,
-                                   const std::vector<cv::KeyPoint>& keypoints,
-                                   std::vector<uint8_t>& dynamic) {
+cv::Mat DynamicFeatureFilter::prepare(const RGBDFrame& frame, const cv::Mat& gray) {
   const int64 t_all = cv::getTickCount();
   ++frame_;
+  prepared_frame_ = frame_;
   mask_ = cv::Mat::zeros(gray.size(), CV_8UC1);
   const bool need_lk = p_.use_flow || (p_.use_detector && p_.carry_boxes);
   if (p_.use_detector) submitToDetector(frame.rgb, frame_);
 
   // Pyramid of this frame (the pipeline reuses its grey buffer: keep a copy).
   int64 t0 = cv::getTickCount();
-  MotionFrame cur;
+  MotionFrame& cur = cur_;
+  cur = MotionFrame();
   if (need_lk) cur = motion_.makeFrame(gray.clone(), frame.depth);
   times_["pyramid"].push_back(msSince(t0));
 
@@ -172,88 +172,63 @@ void DynamicFeatureFilter::process(const RGBDFrame& frame, const cv::Mat& gray,
   }
   double ms_boxes = msSince(t0);
 
-  // Motion evidence, then the box masks (their depth comes from the moving
-  // points), then the keypoints on either.
-  MotionEvidence ev;
-  const bool motion = p_.use_flow && have_flow;
-  if (motion) ev = motionEvidence(cur, cur_points, tracked, gray.size());
-  times_["geometry"].push_back(ev.r.ms_geometry);
-  times_["regions"].push_back(ev.r.ms_mask);
+  // Before tracking (pre-flags): the detector's boxes at the object's depth
+  // and the moving points carried from the last judgement, with the last
+  // judgement's regions moved along by their flow. The motion check itself
+  // runs once the tracker has the pose (frameTracked).
+  MotionEvidence pre;
+  if (p_.use_flow && have_flow) {
+    if (!prev_motion_mask_.empty()) pre.mask = warpedMotionMask(cur_points, tracked);
+    for (std::size_t i = 0; i < tracked.size(); ++i)
+      if (tracked[i] && prev_age_[i]) pre.addMoving(cur_points[i], int(prev_age_[i]) - 1);
+  }
   t0 = cv::getTickCount();
-  cv::Mat box_mask = boxMask(frame, ev.carried);
+  cv::Mat box_mask = boxMask(frame, pre.moving);
   times_["boxes"].push_back(ms_boxes + msSince(t0));
-  std::size_t flagged = flagEvidence(ev, box_mask, keypoints, dynamic);
-  recheck_.frame = -1;
-  if (motion && p_.recheck_disagreement_px > 0) {
-    Recheck& rc = recheck_;
-    rc.frame = frame_;
-    rc.prev_points = prev_points_;
-    rc.prev_age = prev_age_;
-    rc.cur_points = cur_points;
-    rc.tracked = tracked;
-    rc.prev_depth = prev_.depth;
-    rc.cur_depth = cur.depth;
-    rc.box_mask = box_mask;
-    rc.boxes = boxes_now_;
-    rc.keypoints = keypoints;
-    rc.fit_reliable = ev.r.geometry.reliable;
-    rc.fit_has_pose = ev.r.geometry.has_pose;
-    rc.fit_R = ev.r.geometry.R;
-    rc.fit_t = ev.r.geometry.t;
-    rc.prev_xyz = ev.r.correspondences.prev_xyz;
-    rc.dropped = false;
+  buildMask(pre, box_mask);
+  judge_.frame = -1;
+  if (p_.use_flow && have_flow) {
+    Judgement& j = judge_;
+    j.frame = frame_;
+    j.prev_points = prev_points_;
+    j.prev_age = prev_age_;
+    j.cur_points = std::move(cur_points);
+    j.tracked = std::move(tracked);
+    j.prev_depth = prev_.depth;
+    j.cur_depth = cur.depth;
+    j.box_mask = box_mask;
+    j.boxes = boxes_now_;
   }
-  if (!debug_dir_.empty()) {
-    const GeometryResult& g = ev.r.geometry;
-    std::fprintf(stderr,
-                 "[dynamic] frame %ld: %zu keypoints, %zu flagged, %zu boxes, fit %s on %d points "
-                 "(%d of %d pose inliers), %zu carried\n",
-                 frame_, keypoints.size(), flagged, boxes_now_.size(),
-                 g.reliable ? "reliable" : "unreliable", g.fit_points, g.pose_inliers,
-                 g.pose_candidates, ev.carried.size());
-  }
-  const double budget = p_.max_motion_fraction * double(keypoints.size());
-  if (p_.max_motion_fraction < 1.0 && double(flagged) > budget) {
-    // Motion evidence covering most of the image is a failed camera-motion
-    // fit (blur, a mover filling the view), not most of the scene moving:
-    // the last accepted regions, moved along, stand in for it (the movers
-    // are still there) for up to carry_frames frames, as long as they do
-    // not cover most of the image themselves. Failing that, only the
-    // detector's boxes count and nothing is carried forward, or tracking is
-    // starved of the static points it needs.
-    ++dropped_frames_;
-    recheck_.dropped = true;
-    const bool can_carry = motion && p_.carry_last_regions && !ev.warped &&
-                           unreliable_run_ < p_.carry_frames && !prev_motion_mask_.empty();
-    MotionEvidence stand_in;
-    if (can_carry) {
-      stand_in.mask = warpedMotionMask(cur_points, tracked);
-      stand_in.warped = true;
-      // The points carried into this frame stay what they were (moving)
-      // and age on, so the walkers keep their seeds through the dropped frame.
-      for (std::size_t i = 0; i < tracked.size(); ++i)
-        if (tracked[i] && prev_age_[i]) stand_in.addMoving(cur_points[i], int(prev_age_[i]) - 1);
-      flagged = flagEvidence(stand_in, box_mask, keypoints, dynamic);
-    }
-    if (!can_carry || double(flagged) > budget) {
-      stand_in = MotionEvidence{};
-      flagged = flagEvidence(stand_in, box_mask, keypoints, dynamic);
-    }
-    ev = std::move(stand_in);
-  }
-  if (ev.warped)
-    ++unreliable_run_;
-  else if (ev.r.geometry.reliable)
-    unreliable_run_ = 0;
-  prev_motion_mask_ = ev.mask;
+  prev_motion_mask_ = pre.mask;
+  writeDebugImage(box_mask, pre.mask);
+  pre_carried_ = std::move(pre.carried);
+  pre_carried_age_ = std::move(pre.carried_age);
+  prepare_ms_ = msSince(t_all);
+  return mask_;
+}
 
-  writeDebugImage(box_mask, ev.mask);
-  if (need_lk) {
-    selectFlowPoints(keypoints, ev.carried, ev.carried_age);
-    prev_ = std::move(cur);
+void DynamicFeatureFilter::process(const RGBDFrame&, const cv::Mat&,
+                                   const std::vector<cv::KeyPoint>& keypoints,
+                                   std::vector<uint8_t>& dynamic) {
+  if (prepared_frame_ != frame_ || frame_ < 0)
+    throw std::logic_error("DynamicFeatureFilter::process: prepare() the frame first");
+  const int64 t0 = cv::getTickCount();
+  prepared_frame_ = -1;
+  std::fill(dynamic.begin(), dynamic.end(), 0);
+  const std::size_t flagged = flagOnMask(keypoints, dynamic);
+  if (judge_.frame == frame_) judge_.keypoints = keypoints;
+  if (!debug_dir_.empty())
+    std::fprintf(stderr, "[dynamic] frame %ld: %zu keypoints, %zu pre-flagged, %zu boxes, %zu carried\n",
+                 frame_, keypoints.size(), flagged, boxes_now_.size(), pre_carried_.size());
+  if (!cur_.pyramid.empty()) {
+    // Untracked frames go on from the carried points, one frame older;
+    // frameTracked() replaces them with the new judgement's.
+    selectFlowPoints(keypoints, pre_carried_, pre_carried_age_);
+    prev_ = std::move(cur_);
+    cur_ = MotionFrame();
     have_prev_ = true;
   }
-  times_["total"].push_back(msSince(t_all));
+  times_["total"].push_back(prepare_ms_ + msSince(t0));
 }
 
 void DynamicFeatureFilter::writeDebugImage(const cv::Mat& box_mask, const cv::Mat& regions) const {
@@ -270,15 +245,16 @@ void DynamicFeatureFilter::writeDebugImage(const cv::Mat& box_mask, const cv::Ma
   cv::imwrite(debug_dir_ + name, bgr);
 }
 
-bool DynamicFeatureFilter::frameTracked(std::size_t index, bool has_pose,
-                                        const cv::Matx44d& pose_wc, std::vector<uint8_t>& dynamic) {
+bool DynamicFeatureFilter::frameTracked(std::size_t index, const TrackedPose& pose,
+                                        std::vector<uint8_t>& dynamic) {
   const long f = long(index);
   bool changed = false;
-  if (has_pose && tracked_frame_ == f - 1 && recheck_.frame == f &&
-      dynamic.size() == recheck_.keypoints.size())
-    changed = recheck(tracked_pose_, pose_wc, dynamic);
-  tracked_frame_ = has_pose ? f : -1;
-  tracked_pose_ = pose_wc;
+  if (pose.has_pose && tracked_frame_ == f - 1 && judge_.frame == f &&
+      dynamic.size() == judge_.keypoints.size())
+    changed = judge(tracked_pose_, pose, dynamic);
+  judge_.frame = -1;
+  tracked_frame_ = pose.has_pose ? f : -1;
+  tracked_pose_ = pose.pose_wc;
   return changed;
 }
 
@@ -303,23 +279,6 @@ cv::Mat DynamicFeatureFilter::warpedMotionMask(const std::vector<cv::Point2f>& c
   return out;
 }
 
-DynamicFeatureFilter::MotionEvidence DynamicFeatureFilter::motionEvidence(
-    const MotionFrame& cur, const std::vector<cv::Point2f>& cur_points,
-    const std::vector<uint8_t>& tracked, cv::Size size) {
-  MotionEvidence ev;
-  ev.r = motion_.classify(prev_points_, cur_points, tracked, prev_.depth, cur.depth, camera_,
-                          boxes_now_, size, &prev_age_);
-  const MotionResult& r = ev.r;
-  ev.mask = r.mask;
-  if (!r.geometry.reliable && unreliable_run_ < p_.carry_frames && !prev_motion_mask_.empty()) {
-    // Blurred frame: no verdicts, so move the last motion mask along.
-    ev.mask = warpedMotionMask(cur_points, tracked);
-    ev.warped = true;
-  }
-  collectMoving(ev, cur_points, tracked, prev_age_);
-  return ev;
-}
-
 void DynamicFeatureFilter::collectMoving(MotionEvidence& ev,
                                          const std::vector<cv::Point2f>& cur_points,
                                          const std::vector<uint8_t>& tracked,
@@ -334,57 +293,54 @@ void DynamicFeatureFilter::collectMoving(MotionEvidence& ev,
   }
 }
 
-bool DynamicFeatureFilter::recheck(const cv::Matx44d& prev_pose_wc, const cv::Matx44d& pose_wc,
-                                   std::vector<uint8_t>& dynamic) {
-  Recheck& rc = recheck_;
-  rc.frame = -1;
+bool DynamicFeatureFilter::judge(const cv::Matx44d& prev_pose_wc, const TrackedPose& pose,
+                                 std::vector<uint8_t>& dynamic) {
+  Judgement& j = judge_;
+  const int64 t0 = cv::getTickCount();
   // Previous camera -> current camera, from the tracker.
-  const cv::Matx44d rel = pose_wc.inv() * prev_pose_wc;
+  const cv::Matx44d rel = pose.pose_wc.inv() * prev_pose_wc;
   CameraMotion known;
   known.R = rel.get_minor<3, 3>(0, 0);
   known.t = cv::Vec3d(rel(0, 3), rel(1, 3), rel(2, 3));
-  bool needed = rc.dropped || !rc.fit_reliable || !rc.fit_has_pose;
-  if (!needed) {
-    // Median pixel distance between the fit's and the tracker's prediction
-    // of the depth-backed points.
-    std::vector<float> d;
-    for (const cv::Point3f& X : rc.prev_xyz) {
-      if (X.z <= 0) continue;
-      const cv::Vec3d a = rc.fit_R * cv::Vec3d(X.x, X.y, X.z) + rc.fit_t;
-      const cv::Vec3d b = known.R * cv::Vec3d(X.x, X.y, X.z) + known.t;
-      if (a[2] <= 1e-6 || b[2] <= 1e-6) continue;
-      d.push_back(float(std::hypot(camera_.fx * (a[0] / a[2] - b[0] / b[2]),
-                                   camera_.fy * (a[1] / a[2] - b[1] / b[2]))));
-    }
-    if (!d.empty()) {
-      std::nth_element(d.begin(), d.begin() + d.size() / 2, d.end());
-      needed = d[d.size() / 2] > p_.recheck_disagreement_px;
-    }
-  }
-  if (!needed) return false;
-  const int64 t0 = cv::getTickCount();
   MotionEvidence ev;
-  ev.r = motion_.classify(rc.prev_points, rc.cur_points, rc.tracked, rc.prev_depth, rc.cur_depth,
-                          camera_, rc.boxes, rc.cur_depth.size(), &rc.prev_age, &known);
+  ev.r = motion_.classify(j.prev_points, j.cur_points, j.tracked, j.prev_depth, j.cur_depth,
+                          camera_, j.boxes, j.cur_depth.size(), &j.prev_age, &known);
   ev.mask = ev.r.mask;
-  collectMoving(ev, rc.cur_points, rc.tracked, rc.prev_age);
+  collectMoving(ev, j.cur_points, j.tracked, j.prev_age);
   const cv::Mat before = mask_.clone();
-  const std::size_t flagged = flagEvidence(ev, rc.box_mask, rc.keypoints, dynamic);
-  // The flags are the new judgement's; the pixel mask (lastMask(), what the
-  // dense export leaves out of a keyframe) keeps both: a pixel either
-  // judgement saw moving stays out of the map, which other keyframes fill in
-  // (rpy_walkers ghost share 0.19-0.23 % instead of 0.35-0.51 %).
+  std::vector<uint8_t> verdict(dynamic.size(), 0);
+  buildMask(ev, j.box_mask);
+  const std::size_t flagged = flagOnMask(j.keypoints, verdict);
+  // The map's evidence: keypoints the tracker matched to map points under
+  // this pose are static; a judgement flagging most of them is wrong.
+  std::size_t inliers = 0, inliers_flagged = 0;
+  for (std::size_t i = 0; i < verdict.size() && i < pose.map_inliers.size(); ++i)
+    if (pose.map_inliers[i]) {
+      ++inliers;
+      inliers_flagged += verdict[i] != 0;
+    }
+  times_["judge"].push_back(msSince(t0));
+  if (inliers > 0 && double(inliers_flagged) > p_.max_map_inliers_flagged * double(inliers)) {
+    ++rejected_judgements_;
+    mask_ = before;
+    if (!debug_dir_.empty())
+      std::fprintf(stderr, "[dynamic] frame %ld: judgement rejected: %zu of %zu map inliers flagged\n",
+                   frame_, inliers_flagged, inliers);
+    return false;
+  }
+  dynamic = std::move(verdict);
+  // The flags are the judgement's; the pixel mask (lastMask(), what the
+  // dense export leaves out of a keyframe) keeps the pre-flags too: a pixel
+  // either saw moving stays out of the map, which other keyframes fill in.
   mask_ |= before;
-  ++rechecked_frames_;
-  times_["recheck"].push_back(msSince(t0));
-  writeDebugImage(rc.box_mask, ev.mask);
+  ++judged_frames_;
+  writeDebugImage(j.box_mask, ev.mask);
   if (!debug_dir_.empty())
-    std::fprintf(stderr, "[dynamic] frame %ld: rechecked under the tracker's motion: %zu flagged\n",
+    std::fprintf(stderr, "[dynamic] frame %ld: judged under the tracker's motion: %zu flagged\n",
                  frame_, flagged);
   // The next frame goes on from these verdicts.
-  selectFlowPoints(rc.keypoints, ev.carried, ev.carried_age);
+  selectFlowPoints(j.keypoints, ev.carried, ev.carried_age);
   prev_motion_mask_ = ev.mask;
-  unreliable_run_ = 0;
   return true;
 }
 
@@ -425,25 +381,21 @@ cv::Mat DynamicFeatureFilter::boxMask(const RGBDFrame& frame,
                                       &hints);
 }
 
-std::size_t DynamicFeatureFilter::flagEvidence(const MotionEvidence& ev, const cv::Mat& box_mask,
-                                               const std::vector<cv::KeyPoint>& keypoints,
-                                               std::vector<uint8_t>& dynamic) {
+void DynamicFeatureFilter::buildMask(const MotionEvidence& ev, const cv::Mat& box_mask) {
   mask_ = ev.mask.empty() ? cv::Mat::zeros(mask_.size(), CV_8UC1) : ev.mask.clone();
   if (p_.moving_point_radius_px > 0)
     for (const auto& q : ev.moving)
       cv::circle(mask_, q, p_.moving_point_radius_px, cv::Scalar(255), cv::FILLED);
   if (!box_mask.empty()) mask_ |= box_mask;
   if (!debug_dir_.empty()) undilated_ = mask_.clone();
-  std::fill(dynamic.begin(), dynamic.end(), 0);
-  return flagKeypoints(keypoints, dynamic);
-}
-
-std::size_t DynamicFeatureFilter::flagKeypoints(const std::vector<cv::KeyPoint>& keypoints,
-                                               std::vector<uint8_t>& dynamic) {
   if (p_.mask_margin_px > 0 && cv::countNonZero(mask_) > 0) {
     const int k = 2 * p_.mask_margin_px + 1;
     cv::dilate(mask_, mask_, cv::getStructuringElement(cv::MORPH_ELLIPSE, {k, k}));
   }
+}
+
+std::size_t DynamicFeatureFilter::flagOnMask(const std::vector<cv::KeyPoint>& keypoints,
+                                             std::vector<uint8_t>& dynamic) const {
   std::size_t n = 0;
   for (std::size_t i = 0; i < keypoints.size(); ++i) {
     const int u = cvRound(keypoints[i].pt.x), v = cvRound(keypoints[i].pt.y);

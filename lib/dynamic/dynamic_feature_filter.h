@@ -7,18 +7,23 @@
 //    on a 30 fps tracking path); its boxes are carried to each later frame
 //    by the LK flow (BoxCarrier), so they follow the person between runs.
 //  - flow: the previous frame's keypoints tracked by LK into this frame and
-//    tested against the camera motion fitted on the static majority
-//    (reprojection of the depth-backed point, epipolar distance without
-//    pose); flagged points grow to their depth-connected region, and the
-//    keypoints of such a region are carried as seeds for a few frames.
-// Keypoints falling on the union of both masks (dilated by a margin) are
-// flagged dynamic.
+//    tested against the camera motion between the two frames' tracked
+//    poses (reprojection of the depth-backed point, epipolar distance
+//    without depth); flagged points grow to their depth-connected region,
+//    and the moving points are carried as seeds for a few frames.
 //
-// Why a second look after tracking (frameTracked): where movers fill the
-// view, the frame-to-frame fit can take their motion for the camera's and
-// flag the static scene. The tracker's pose is fitted on the map, which
-// they cannot hijack that way; frames whose fit disagrees with it are
-// judged again under its motion, and those flags are what mapping uses.
+// Why the motion check runs after tracking (two phases): where movers fill
+// the view, a camera motion fitted on the tracks themselves (RANSAC) takes
+// their motion for the camera's and flags the static scene. The tracker's
+// pose comes from the map, which movers cannot hijack that way. So
+//   1. process(), before tracking, pre-flags the keypoints on the carried
+//      detector boxes (at the object's depth) and on the last judgement's
+//      moving points and regions, moved along by their flow;
+//   2. the tracker estimates the pose without the pre-flagged keypoints;
+//   3. frameTracked() classifies every track once under the tracker's
+//      motion: those flags replace the pre-flags for the keyframe decision
+//      and mapping, and their moving points seed the next frame.
+// A frame without a tracked pose (or after one) keeps its pre-flags.
 //
 // Cost: LK runs on at most max_flow_points keypoints of the previous frame
 // (keypoints carried as dynamic first), at half resolution by default; the
@@ -75,20 +80,11 @@ struct DynamicFilterParams {
   /// (carried) points inside it needs at least this many of them; otherwise
   /// the box's depth histogram decides (0 = never use the points).
   int min_hint_points = 5;
-  /// When more than this share of a frame's keypoints would be flagged, the
-  /// motion evidence is dropped for that frame (detector boxes only): a
-  /// camera-motion fit that fails on blur flags the static scene.
-  double max_motion_fraction = 0.7;
-  /// In such a frame, first try the last accepted motion regions moved by
-  /// the flow instead (at most carry_frames frames in a row).
-  bool carry_last_regions = true;
-  /// After tracking: re-classify the frame's tracked points under the
-  /// tracker's camera motion (from the map, which walkers filling the view
-  /// cannot hijack as they hijack the frame-to-frame fit) when the fit was
-  /// unreliable, dropped, or disagrees with it by more than this many pixels
-  /// (median over the depth-backed points); the new flags replace the
-  /// frame's and seed the next frame. 0 = off.
-  double recheck_disagreement_px = 1.5;
+  /// A judgement under the tracker's motion that flags more than this share
+  /// of the keypoints the tracker matched to the map (static by the map's
+  /// evidence) is not trusted: blur or a wrong pose, not movers; the frame
+  /// keeps its pre-flags.
+  double max_map_inliers_flagged = 0.2;
   YoloDetectorParams detector;
   BoxDepthParams box_mask;
   BoxCarrierParams carrier;
@@ -102,28 +98,36 @@ class DynamicFeatureFilter : public ObservationPreprocessor {
   DynamicFeatureFilter(const DynamicFilterParams& params, const PinholeCamera& camera);
   ~DynamicFeatureFilter() override;
 
+  /// Phase 1, before feature extraction: LK of the last frame's points,
+  /// the carried detector boxes, and the pre-flag mask (CV_8U, 255 =
+  /// expected dynamic, margin included) that the extractor spends its
+  /// budget around and process() flags the keypoints on.
+  cv::Mat prepare(const RGBDFrame& frame, const cv::Mat& gray) override;
+  /// Phase 2: flags the keypoints on the pre-flag mask (std::logic_error
+  /// unless prepare() ran for this frame).
   void process(const RGBDFrame& frame, const cv::Mat& gray,
                const std::vector<cv::KeyPoint>& keypoints,
                std::vector<uint8_t>& dynamic) override;
-  /// Re-judges the frame under the tracker's camera motion into it when the
-  /// frame-to-frame fit disagrees with it (recheck_disagreement_px); returns
-  /// whether `dynamic` changed.
-  bool frameTracked(std::size_t index, bool has_pose, const cv::Matx44d& pose_wc,
+  /// Judges the frame's tracked points under the tracker's camera motion
+  /// into it (when this frame and the one before have a pose): the new flags
+  /// replace the pre-flags of process() and seed the next frame. Returns
+  /// whether it judged (and so rewrote `dynamic`).
+  bool frameTracked(std::size_t index, const TrackedPose& pose,
                     std::vector<uint8_t>& dynamic) override;
 
   /// Dynamic-pixel mask (CV_8U, 255 = dynamic) of the last processed frame;
-  /// after a re-check (frameTracked), the union of both judgements.
+  /// after the judgement (frameTracked), its union with the pre-flags.
   const cv::Mat& lastMask() const { return mask_; }
   /// Detector boxes (carried to the frame) used for the last processed frame.
   const std::vector<Detection>& lastBoxes() const { return boxes_now_; }
   std::size_t detectorRuns() const;
-  /// Frames whose motion evidence was dropped (max_motion_fraction).
-  std::size_t droppedMotionFrames() const { return dropped_frames_; }
-  /// Frames re-classified under the tracker's motion (recheck_disagreement_px).
-  std::size_t recheckedFrames() const { return rechecked_frames_; }
+  /// Frames judged under the tracker's motion (frameTracked).
+  std::size_t judgedFrames() const { return judged_frames_; }
+  /// Judgements not used (max_map_inliers_flagged).
+  std::size_t rejectedJudgements() const { return rejected_judgements_; }
   /// Per-stage times (ms), one sample per processed frame: pyramid, lk,
-  /// boxes (carrying + box depth mask), geometry, regions, total; and one
-  /// per re-judged frame: recheck.
+  /// boxes (carrying + box depth mask), total; and one per judged frame:
+  /// judge.
   const std::map<std::string, std::vector<double>>& stageTimes() const { return times_; }
 
  private:
@@ -132,7 +136,6 @@ class DynamicFeatureFilter : public ObservationPreprocessor {
   struct MotionEvidence {
     MotionResult r;
     cv::Mat mask;  ///< regions; empty = none
-    bool warped = false;  ///< mask is the previous frame's, moved (unreliable fit)
     std::vector<cv::Point2f> moving;
     std::vector<cv::Point2f> carried;
     std::vector<uint8_t> carried_age;
@@ -140,15 +143,15 @@ class DynamicFeatureFilter : public ObservationPreprocessor {
     /// carried on for `age` more frames if it lies in `mask`.
     void addMoving(const cv::Point2f& p, int age);
   };
-  MotionEvidence motionEvidence(const MotionFrame& cur, const std::vector<cv::Point2f>& cur_points,
-                                const std::vector<uint8_t>& tracked, cv::Size size);
   /// The moving and carried points of a classification (ages: the carried
   /// age of each tracked point before it); ev.mask must be set first.
   void collectMoving(MotionEvidence& ev, const std::vector<cv::Point2f>& cur_points,
                      const std::vector<uint8_t>& tracked, const std::vector<uint8_t>& ages) const;
-  /// frameTracked(): re-classify the last frame under the tracker's motion.
-  bool recheck(const cv::Matx44d& prev_pose_wc, const cv::Matx44d& pose_wc,
-               std::vector<uint8_t>& dynamic);
+  /// frameTracked(): classify the last frame's tracks under the tracker's motion.
+  /// False (nothing changed) when the verdicts contradict the map: more
+  /// than max_map_inliers_flagged of the tracker's map inliers flagged.
+  bool judge(const cv::Matx44d& prev_pose_wc, const TrackedPose& pose,
+             std::vector<uint8_t>& dynamic);
   /// $DYNSLAM_DEBUG_DYNAMIC_DIR/<frame>.png: the mask's parts.
   void writeDebugImage(const cv::Mat& box_mask, const cv::Mat& regions) const;
   /// prev_motion_mask_ moved by the median flow of the carried points.
@@ -156,12 +159,11 @@ class DynamicFeatureFilter : public ObservationPreprocessor {
                            const std::vector<uint8_t>& tracked) const;
   /// Depth masks of the boxes of this frame (empty without boxes).
   cv::Mat boxMask(const RGBDFrame& frame, const std::vector<cv::Point2f>& carried);
-  /// mask_ = regions + discs around moving points + boxes; flags (from zero)
-  /// the keypoints on it; returns how many.
-  std::size_t flagEvidence(const MotionEvidence& ev, const cv::Mat& box_mask,
-                           const std::vector<cv::KeyPoint>& keypoints, std::vector<uint8_t>& dynamic);
-  /// Dilates mask_ by the margin and flags the keypoints on it; returns how many.
-  std::size_t flagKeypoints(const std::vector<cv::KeyPoint>& keypoints, std::vector<uint8_t>& dynamic);
+  /// mask_ = regions + discs around moving points + boxes, dilated by the margin.
+  void buildMask(const MotionEvidence& ev, const cv::Mat& box_mask);
+  /// Sets dynamic[i] = 1 for the keypoints on mask_; returns how many.
+  std::size_t flagOnMask(const std::vector<cv::KeyPoint>& keypoints,
+                         std::vector<uint8_t>& dynamic) const;
   void submitToDetector(const cv::Mat& bgr, long frame);
   void collectDetections(const cv::Mat& bgr, long frame);
   void detectorLoop();
@@ -175,13 +177,16 @@ class DynamicFeatureFilter : public ObservationPreprocessor {
   BoxDepthMasker box_masker_;
   BoxCarrier carrier_;
   MotionConsistencyCheck motion_;
-  MotionFrame prev_;
+  MotionFrame prev_, cur_;
+  long prepared_frame_ = -1;  // frame prepare() ran for, until process()
+  std::vector<cv::Point2f> pre_carried_;  // prepare()'s carried points, for process()
+  std::vector<uint8_t> pre_carried_age_;
+  double prepare_ms_ = 0;
   std::vector<cv::Point2f> prev_points_;
   // Per prev point: frames left to carry it as dynamic (0 = a plain keypoint).
   std::vector<uint8_t> prev_age_;
   bool have_prev_ = false;
-  cv::Mat prev_motion_mask_;  // grown motion regions of the previous frame
-  int unreliable_run_ = 0;    // consecutive frames whose motion fit was unreliable
+  cv::Mat prev_motion_mask_;  // motion regions of the previous frame's last judgement
   long frame_ = -1;
   long last_submitted_ = -1000000;
   cv::Mat mask_;
@@ -190,26 +195,20 @@ class DynamicFeatureFilter : public ObservationPreprocessor {
   // $DYNSLAM_DEBUG_DYNAMIC_DIR: per-frame PNG of the mask's parts (diagnostics).
   std::string debug_dir_;
   cv::Mat undilated_;
-  std::size_t dropped_frames_ = 0;
   // The last tracked frame (-1: the last frame was not tracked) and its pose.
   long tracked_frame_ = -1;
   cv::Matx44d tracked_pose_;
-  // What process() saw of this frame, for recheck().
-  struct Recheck {
+  // What process() saw of this frame, for judge().
+  struct Judgement {
     long frame = -1;
     std::vector<cv::Point2f> prev_points, cur_points;
     std::vector<uint8_t> prev_age, tracked;
     cv::Mat prev_depth, cur_depth, box_mask;
     std::vector<Detection> boxes;
     std::vector<cv::KeyPoint> keypoints;
-    // The frame-to-frame fit: whether it was trusted, and its motion.
-    bool fit_reliable = false, fit_has_pose = false;
-    cv::Matx33d fit_R;
-    cv::Vec3d fit_t;
-    std::vector<cv::Point3f> prev_xyz;  // depth-backed previous points (z <= 0: none)
-    bool dropped = false;  // over the motion budget (max_motion_fraction)
-  } recheck_;
-  std::size_t rechecked_frames_ = 0;
+  } judge_;
+  std::size_t judged_frames_ = 0;
+  std::size_t rejected_judgements_ = 0;
 
   // Asynchronous detector: newest frame in, latest boxes (with their frame) out.
   mutable std::mutex m_;

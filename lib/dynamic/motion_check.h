@@ -47,8 +47,8 @@
 //
 // Why a known motion (classify(..., known)): where movers fill the view, the
 // frame-to-frame RANSAC fit can lock onto them and flag the static scene.
-// The tracker's pose comes from the map instead; DynamicFeatureFilter
-// re-judges such frames under it (DynamicFilterParams::recheck_disagreement_px).
+// The tracker's pose comes from the map instead; DynamicFeatureFilter judges
+// every tracked frame under it (its frameTracked phase).
 //
 // Per frame (the lead's pipeline):
 //   MotionFrame cur = check.makeFrame(gray, depth);          // pyramid built once
@@ -184,6 +184,7 @@ struct GeometryResult {
   /// (see MotionCheckParams::reliable_inlier_ratio).
   bool reliable = false;
 };
+
 
 /// Fills Correspondences from matched raw pixel positions: undistorts them
 /// (camera.dist), back-projects prev points with prev_depth and reads

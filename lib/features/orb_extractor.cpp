@@ -213,7 +213,25 @@ void OrbExtractor::detectLevel(int level, std::vector<cv::KeyPoint>& out) {
     kept_.back().pt += cv::Point2f(float(off), float(off));  // to level coords
   }
   if (lo < ini) addLowTextureCorners(img, cv::Size(w, h), lo);
+  if (level_masks_.empty()) {
+    distributeQuadtree(cv::Size(w, h), features_per_level_[level], out);
+    return;
+  }
+  // The level's whole budget goes to the corners off the mask; those on it
+  // get a budget of their own, in proportion to the mask's area.
+  const cv::Mat& m = level_masks_[level];
+  masked_.clear();
+  std::size_t n_static = 0;
+  for (const auto& k : kept_) {
+    const int x = std::clamp(int(k.pt.x), 0, m.cols - 1), y = std::clamp(int(k.pt.y), 0, m.rows - 1);
+    if (m.at<uint8_t>(y, x)) masked_.push_back(k);
+    else kept_[n_static++] = k;
+  }
+  kept_.resize(n_static);
   distributeQuadtree(cv::Size(w, h), features_per_level_[level], out);
+  kept_.swap(masked_);
+  distributeQuadtree(cv::Size(w, h),
+                     int(std::lround(features_per_level_[level] * masked_budget_)), out);
 }
 
 void OrbExtractor::addLowTextureCorners(const cv::Mat& img, const cv::Size& region,
@@ -372,8 +390,9 @@ void OrbExtractor::distributeQuadtree(const cv::Size& region, int target,
 }
 
 void OrbExtractor::extract(const cv::Mat& gray, std::vector<cv::KeyPoint>& keypoints,
-                           cv::Mat& descriptors) {
+                           cv::Mat& descriptors, const cv::Mat& mask) {
   keypoints.clear();
+  level_masks_.clear();
   if (gray.empty()) {
     descriptors = cv::Mat(0, kDescBytes, CV_8UC1);
     return;
@@ -382,6 +401,17 @@ void OrbExtractor::extract(const cv::Mat& gray, std::vector<cv::KeyPoint>& keypo
     throw std::invalid_argument("OrbExtractor::extract: expected a CV_8UC1 image");
 
   buildPyramid(gray);
+  if (!mask.empty()) {
+    if (mask.type() != CV_8UC1 || mask.size() != gray.size())
+      throw std::invalid_argument("OrbExtractor::extract: mask must be CV_8UC1, the image's size");
+    const double share = double(cv::countNonZero(mask)) / double(mask.total());
+    if (share > 0) {
+      masked_budget_ = float(share);
+      level_masks_.resize(pyramid_.size());
+      for (std::size_t l = 0; l < pyramid_.size(); ++l)
+        cv::resize(mask, level_masks_[l], pyramid_[l].size(), 0, 0, cv::INTER_NEAREST);
+    }
+  }
   keypoints.reserve(params_.n_features + 8);
   for (int l = 0; l < params_.n_levels; ++l) {
     const size_t first = keypoints.size();

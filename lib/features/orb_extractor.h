@@ -42,8 +42,14 @@ class OrbExtractor {
   /// `descriptors` is always a freshly allocated matrix, and pyramid buffers
   /// are only reused when nobody else holds them, so keeping the outputs or
   /// pyramid() images of a past frame is safe. Output is deterministic.
+  ///
+  /// mask (optional, CV_8UC1 of the image's size; non-zero = expected to be
+  /// on movers): each level's whole budget goes to the corners off the mask,
+  /// and the corners on it get a budget of their own on top (the mask's
+  /// share of the image, so the same density), so that movers covering half
+  /// the frame do not halve the static keypoints and can still be followed.
   void extract(const cv::Mat& gray, std::vector<cv::KeyPoint>& keypoints,
-               cv::Mat& descriptors);
+               cv::Mat& descriptors, const cv::Mat& mask = cv::Mat());
 
   int levels() const { return params_.n_levels; }
   float scaleFactor() const { return params_.scale_factor; }
@@ -88,6 +94,9 @@ class OrbExtractor {
   std::vector<int> corner_order_, corner_scratch_;
   std::vector<QuadNode> nodes_, next_nodes_;
   std::vector<int> split_order_;
+  std::vector<cv::Mat> level_masks_;     ///< extract()'s mask per level (empty: none)
+  std::vector<cv::KeyPoint> masked_;     ///< corners of one level on the mask
+  float masked_budget_ = 0;              ///< masked corners' share of a level's budget
 };
 
 /// Hamming distance between two 32-byte ORB descriptors (rows of CV_8UC1).

@@ -234,8 +234,8 @@ RunSummary runSlam(const RunOptions& opt) {
         .value("flagged_keypoints", flagged)
         .value("flagged_fraction", keypoints ? double(flagged) / keypoints : 0.0)
         .value("detector_runs", filter->detectorRuns())
-        .value("dropped_motion_frames", filter->droppedMotionFrames())
-        .value("rechecked_frames", filter->recheckedFrames())
+        .value("judged_frames", filter->judgedFrames())
+        .value("rejected_judgements", filter->rejectedJudgements())
         .value("keyframe_masks", keyframe_masks.size())
         .endObject();
   }

@@ -19,7 +19,7 @@ struct RunOptions {
   std::string out_dir;
   std::string config_path;    ///< empty: configs/dynslam.yaml
   std::string camera_config;  ///< empty: from the sequence
-  std::string mode = "off";   ///< off | detect | flow | detect+flow
+  std::string mode = "detect+flow";  ///< detect+flow | detect | flow | off
   std::size_t max_frames = 0; ///< 0: all
   int deterministic = -1;     ///< -1: as configured, 0/1: override
 };

@@ -11,6 +11,13 @@ using Clock = std::chrono::steady_clock;
 double ms(Clock::time_point a, Clock::time_point b) {
   return std::chrono::duration<double, std::milli>(b - a).count();
 }
+cv::Matx44d toMatx(const mrpt::poses::CPose3D& pose) {
+  const auto H = pose.getHomogeneousMatrixVal<mrpt::math::CMatrixDouble44>();
+  cv::Matx44d T;
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) T(r, c) = H(r, c);
+  return T;
+}
 }  // namespace
 
 SlamSystem::SlamSystem(const SlamConfig& config, const PinholeCamera& camera)
@@ -39,7 +46,12 @@ FrameOutcome SlamSystem::process(const RGBDFrame& frame) {
   else gray_ = frame.rgb;
   auto feats = std::make_shared<FeatureSet>();
   feats->ctx = ctx_;
-  orb_.extract(gray_, feats->keys, feats->descriptors);
+  // The preprocessor's expected movers first, so that the extractor spends
+  // its budget on the static part of the frame.
+  cv::Mat expected_dynamic;
+  if (preprocessor_) expected_dynamic = preprocessor_->prepare(frame, gray_);
+  const auto tp = Clock::now();
+  orb_.extract(gray_, feats->keys, feats->descriptors, expected_dynamic);
   const auto t1 = Clock::now();
   feats->dynamic.assign(feats->keys.size(), 0);
   if (preprocessor_) preprocessor_->process(frame, gray_, feats->keys, feats->dynamic);
@@ -52,32 +64,34 @@ FrameOutcome SlamSystem::process(const RGBDFrame& frame) {
 
   FrameOutcome out;
   out.features = feats;
-  // Once the pose is known, the preprocessor may revise the flags (see
-  // ObservationPreprocessor::frameTracked) before the keyframe decision.
-  Tracker::PoseHook on_pose;
-  if (preprocessor_)
-    on_pose = [&](bool has_pose, const mrpt::poses::CPose3D& pose_wc) {
-      cv::Matx44d T = cv::Matx44d::eye();
-      if (has_pose) {
-        const auto H = pose_wc.getHomogeneousMatrixVal<mrpt::math::CMatrixDouble44>();
-        for (int r = 0; r < 4; ++r)
-          for (int c = 0; c < 4; ++c) T(r, c) = H(r, c);
-      }
-      std::vector<uint8_t> before = feats->dynamic;
-      if (!preprocessor_->frameTracked(frame.index, has_pose, T, feats->dynamic)) return false;
-      out.dynamic_before_tracking = std::move(before);
-      feats->buildGrids();
-      return true;
-    };
   {
+    // Three phases: the pose from the map; the preprocessor's revision of
+    // the flags under that pose (ObservationPreprocessor::frameTracked);
+    // the keyframe decision on the revised flags.
     std::lock_guard<std::mutex> lk(map_.mutex());
-    out.track = tracker_->track(feats, frame.index, frame.timestamp, on_pose);
+    const TrackResult pose = tracker_->estimatePose(feats, frame.index, frame.timestamp);
+    bool changed = false;
+    if (preprocessor_) {
+      std::vector<uint8_t> before = feats->dynamic;
+      TrackedPose tp;
+      tp.has_pose = pose.has_pose;
+      if (pose.has_pose) {
+        tp.pose_wc = toMatx(pose.pose_wc);
+        tp.map_inliers = tracker_->currentMapInliers();
+      }
+      if (preprocessor_->frameTracked(frame.index, tp, feats->dynamic)) {
+        out.dynamic_before_tracking = std::move(before);
+        feats->buildGrids();
+        changed = true;
+      }
+    }
+    out.track = tracker_->finishFrame(changed);
   }
   const auto t3 = Clock::now();
   if (cfg_.system.deterministic) mapper_->processPending();
   const auto t4 = Clock::now();
-  times_.add("extract", ms(t0, t1));
-  if (preprocessor_) times_.add("preprocess", ms(t1, t2));
+  times_.add("extract", ms(tp, t1));
+  if (preprocessor_) times_.add("preprocess", ms(t0, tp) + ms(t1, t2));
   times_.add("track", ms(t2, t3));
   if (cfg_.system.deterministic) times_.add("mapping_inline", ms(t3, t4));
   times_.add("frame_total", ms(t0, t4));

@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <map>
+#include <stdexcept>
 
 namespace dynslam {
 
@@ -25,18 +26,19 @@ Tracker::Tracker(Map& map, KeyFrameSink& sink, const TrackerParams& params,
 
 Tracker::~Tracker() = default;
 
-TrackResult Tracker::track(std::shared_ptr<const FeatureSet> features, std::size_t index,
-                           double timestamp, const PoseHook& on_pose) {
+TrackResult Tracker::estimatePose(std::shared_ptr<const FeatureSet> features, std::size_t index,
+                                  double timestamp) {
   last_ = std::move(cur_);
   cur_ = Frame(next_frame_id_++, index, timestamp, std::move(features));
-  TrackResult res;
-
+  pending_ = TrackResult();
+  pending_open_ = true;
+  initialised_now_ = false;
   if (state_ == TrackingState::kNotInitialized) {
     if (initialize()) {
       state_ = TrackingState::kOk;
-      res.new_keyframe = true;
+      pending_.new_keyframe = true;
+      initialised_now_ = true;
     }
-    if (on_pose) on_pose(state_ == TrackingState::kOk, cur_.pose.wc());
   } else {
     bool ok = false;
     if (state_ == TrackingState::kOk) {
@@ -64,32 +66,53 @@ TrackResult Tracker::track(std::shared_ptr<const FeatureSet> features, std::size
       velocity_valid_ = false;
       cur_.has_pose = false;
     }
-    if (on_pose && on_pose(ok, cur_.pose.wc()) && ok) dropMatchesOnDynamic();
-    if (ok) {
-      if (needNewKeyFrame()) {
-        createKeyFrame();
-        res.new_keyframe = true;
-      }
-      // Temporal points must not outlive this frame as matches.
-      for (std::size_t i = 0; i < cur_.points.size(); ++i)
-        if (cur_.points[i] && cur_.points[i]->nObs() == 0 && !cur_.points[i]->ref_kf)
-          cur_.points[i] = nullptr;
-    }
   }
+  pending_.state = state_;
+  pending_.has_pose = cur_.has_pose && state_ == TrackingState::kOk;
+  if (pending_.has_pose) pending_.pose_wc = cur_.pose.wc();
+  pending_.inliers = inliers_;
+  return pending_;
+}
 
+TrackResult Tracker::finishFrame(bool flags_changed) {
+  if (!pending_open_) throw std::logic_error("Tracker::finishFrame without estimatePose");
+  pending_open_ = false;
+  TrackResult res = pending_;
+  // The map's first frame made its keyframe from the flags it came with.
+  if (!initialised_now_ && res.has_pose) {
+    if (flags_changed) dropMatchesOnDynamic();
+    if (needNewKeyFrame()) {
+      createKeyFrame();
+      res.new_keyframe = true;
+    }
+    // Temporal points must not outlive this frame as matches.
+    for (std::size_t i = 0; i < cur_.points.size(); ++i)
+      if (cur_.points[i] && cur_.points[i]->nObs() == 0 && !cur_.points[i]->ref_kf)
+        cur_.points[i] = nullptr;
+  }
   if (kDebug)
     std::fprintf(stderr, "[track] frame %zu state %d inliers %d local_kfs %zu local_pts %zu kf %d map_kfs %zu\n",
-                 index, static_cast<int>(state_), inliers_, local_kfs_.size(), local_points_.size(),
+                 cur_.index, static_cast<int>(state_), inliers_, local_kfs_.size(), local_points_.size(),
                  res.new_keyframe ? 1 : 0, map_.keyFrameCount());
-  res.state = state_;
-  res.has_pose = cur_.has_pose && state_ == TrackingState::kOk;
   res.inliers = inliers_;
   if (res.has_pose) {
-    res.pose_wc = cur_.pose.wc();
     if (!cur_.ref_kf) cur_.ref_kf = ref_kf_;
-    records_.push_back({index, timestamp, cur_.ref_kf, cur_.pose.wc() - cur_.ref_kf->worldPose()});
+    records_.push_back({cur_.index, cur_.timestamp, cur_.ref_kf, cur_.pose.wc() - cur_.ref_kf->worldPose()});
   }
   return res;
+}
+
+std::vector<uint8_t> Tracker::currentMapInliers() const {
+  std::vector<uint8_t> in(cur_.points.size(), 0);
+  for (std::size_t i = 0; i < cur_.points.size(); ++i)
+    in[i] = cur_.points[i] && !cur_.outlier[i] && cur_.points[i]->nObs() > 0;
+  return in;
+}
+
+TrackResult Tracker::track(std::shared_ptr<const FeatureSet> features, std::size_t index,
+                           double timestamp) {
+  estimatePose(std::move(features), index, timestamp);
+  return finishFrame(false);
 }
 
 bool Tracker::predictMotion(double dt, mrpt::poses::CPose3D& motion) const {

@@ -6,7 +6,6 @@
 //    (covisible keyframes' points projected and matched), optimise again,
 //    4. decide whether the frame becomes a keyframe and hand it to the mapper.
 // Keypoints flagged dynamic never enter any of these steps.
-#include <functional>
 #include <memory>
 #include <vector>
 
@@ -83,17 +82,23 @@ class Tracker {
           const PoseOptimizerParams& optim = {});
   ~Tracker();
 
-  /// Called once the frame's pose is known (has_pose false: lost), before
-  /// the keyframe decision; returns true when it changed the frame's
-  /// dynamic flags (and rebuilt its grids), see
-  /// ObservationPreprocessor::frameTracked. On the frame that initialises
-  /// the map it runs after the first keyframe is made (that frame has no
-  /// previous one to be re-judged against, so its flags do not change).
-  using PoseHook = std::function<bool(bool has_pose, const mrpt::poses::CPose3D& pose_wc)>;
-
-  /// Tracks one frame. `features` must be finalised (FeatureSet::finalize).
+  /// Tracking in two phases, so that the frame's dynamic flags can be
+  /// revised once its pose is known (ObservationPreprocessor::frameTracked):
+  /// estimatePose() finds the pose from the map; finishFrame() then drops
+  /// the matches on keypoints that have become dynamic (flags_changed),
+  /// decides on a keyframe (made from the revised flags) and records the
+  /// pose. `features` must be finalised (FeatureSet::finalize) and may have
+  /// its `dynamic` flags changed in between (then rebuild its grids). On the
+  /// frame that initialises the map the keyframe is made in estimatePose().
+  TrackResult estimatePose(std::shared_ptr<const FeatureSet> features, std::size_t index,
+                           double timestamp);
+  TrackResult finishFrame(bool flags_changed);
+  /// After estimatePose(): per keypoint, 1 = matched to a map point and an
+  /// inlier of the pose.
+  std::vector<uint8_t> currentMapInliers() const;
+  /// estimatePose() and finishFrame(false) in one.
   TrackResult track(std::shared_ptr<const FeatureSet> features, std::size_t index,
-                    double timestamp, const PoseHook& on_pose = {});
+                    double timestamp);
 
   TrackingState state() const { return state_; }
   /// Optional; not owned.
@@ -137,7 +142,7 @@ class Tracker {
   void searchLocalPoints();
   bool needNewKeyFrame() const;
   void createKeyFrame();
-  /// After on_pose changed the flags: matches on keypoints now dynamic go,
+  /// After the flags changed between the phases: matches on keypoints now dynamic go,
   /// and inliers_ is recounted.
   void dropMatchesOnDynamic();
   void updateLastFrame();
@@ -172,6 +177,10 @@ class Tracker {
   RelocalisationCandidateSource* candidate_source_ = nullptr;
   std::vector<Relocalisation> relocalisations_;
   std::size_t culled_dynamic_points_ = 0;
+  // Between estimatePose() and finishFrame().
+  TrackResult pending_;
+  bool pending_open_ = false;
+  bool initialised_now_ = false;
 };
 
 }  // namespace dynslam

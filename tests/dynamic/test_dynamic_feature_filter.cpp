@@ -1,9 +1,9 @@
-// DynamicFeatureFilter as a whole (mode flow, no detector) on a synthetic
-// sequence with known geometry: a camera sliding along a textured wall, a
-// small object walking in front of it, and a second object that stands still
-// until the last frame. In that frame the motion evidence exceeds the
-// max_motion_fraction budget: the filter must drop it and stand in the last
-// accepted regions moved by the flow (carry_last_regions), or flag nothing.
+// DynamicFeatureFilter as a whole (mode flow, no detector: objects of no
+// detector class) on synthetic sequences with known geometry, run in its
+// two phases as SlamSystem runs it: prepare() and process() before tracking,
+// frameTracked() with the tracker's pose after. The poses given are the true
+// ones (a camera sliding along x), so the judgement's verdicts can be checked
+// against the known movers.
 #include <gtest/gtest.h>
 
 #include <opencv2/imgproc.hpp>
@@ -64,16 +64,12 @@ Sequence makeSequence() {
   return s;
 }
 
-DynamicFilterParams flowOnly(bool carry_last_regions) {
+DynamicFilterParams flowOnly() {
   DynamicFilterParams p;
   p.use_detector = false;
   p.use_flow = true;
   p.max_flow_points = 0;
   p.carry_frames = 2;
-  // The walker alone (with the mask margin) stays under this share of the
-  // keypoints; walker and late mover together exceed it.
-  p.max_motion_fraction = 0.12;
-  p.carry_last_regions = carry_last_regions;
   p.motion.lk_downsample = 1;
   p.motion.lk_window = 21;
   return p;
@@ -107,81 +103,128 @@ Shares score(const std::vector<cv::KeyPoint>& kps, const std::vector<uint8_t>& d
   return s;
 }
 
-// Runs frames 0..3 and returns the flags of each frame.
-std::vector<std::vector<uint8_t>> run(DynamicFeatureFilter& filter, const Sequence& s) {
-  std::vector<std::vector<uint8_t>> flags;
-  for (std::size_t k = 0; k < s.frames.size(); ++k) {
-    std::vector<uint8_t> dyn(s.keypoints[k].size(), 0);
-    filter.process(s.frames[k], s.gray[k], s.keypoints[k], dyn);
-    flags.push_back(dyn);
-  }
-  return flags;
+cv::Matx44d slidingCamera(std::size_t k) {
+  cv::Matx44d pose_wc = cv::Matx44d::eye();
+  pose_wc(0, 3) = 0.04 * double(k);
+  return pose_wc;
+}
+
+TrackedPose posed(std::size_t k) {
+  TrackedPose t;
+  t.has_pose = true;
+  t.pose_wc = slidingCamera(k);
+  return t;
+}
+
+struct Phases {
+  std::vector<uint8_t> pre, judged;  ///< flags before and after frameTracked
+  bool changed = false;
+};
+
+// Both phases of frame k; `pose` as the tracker would report it.
+Phases step(DynamicFeatureFilter& filter, const Sequence& s, std::size_t k,
+            const TrackedPose& pose) {
+  Phases p;
+  p.pre.assign(s.keypoints[k].size(), 0);
+  filter.prepare(s.frames[k], s.gray[k]);
+  filter.process(s.frames[k], s.gray[k], s.keypoints[k], p.pre);
+  p.judged = p.pre;
+  p.changed = filter.frameTracked(k, pose, p.judged);
+  return p;
 }
 
 }  // namespace
 
-TEST(DynamicFeatureFilterBudget, DroppedFrameStandsInTheLastRegionsMovedByTheFlow) {
+// A small object walking in front of the wall, and one that starts moving in
+// the last frame: under the tracker's motion, the flow path alone flags each
+// as soon as it moves, and nothing else.
+TEST(DynamicFeatureFilterTwoPhases, FlowAloneFlagsMoversOfNoDetectorClass) {
   const Sequence s = makeSequence();
-  DynamicFeatureFilter filter(flowOnly(true), test::sceneCamera());
-  const auto flags = run(filter, s);
+  DynamicFeatureFilter filter(flowOnly(), test::sceneCamera());
+  std::vector<Phases> ph;
+  for (std::size_t k = 0; k < s.frames.size(); ++k) ph.push_back(step(filter, s, k, posed(k)));
+  EXPECT_FALSE(ph[0].changed);  // no previous frame to judge against
+  for (std::size_t k = 1; k < s.frames.size(); ++k) EXPECT_TRUE(ph[k].changed) << k;
+  EXPECT_EQ(filter.judgedFrames(), s.frames.size() - 1);
 
-  // Frame 2, under the budget: the walker is flagged, the still object and
-  // the wall are not.
-  const Shares f2 = score(s.keypoints[2], flags[2], 2);
+  const Shares f2 = score(s.keypoints[2], ph[2].judged, 2);
   ASSERT_GT(f2.in_walker, 20);
   ASSERT_GT(f2.background, 200);
   EXPECT_GT(f2.walker_flagged, 0.9 * f2.in_walker);
   EXPECT_EQ(f2.late_flagged, 0);
   EXPECT_LT(f2.background_flagged, 0.02 * f2.background);
-
-  // Frame 3, over the budget: dropped once, and the walker's region of frame
-  // 2, moved with its flow, stands in; the object that only now moves is
-  // not in it, and the wall stays clean.
-  EXPECT_EQ(filter.droppedMotionFrames(), 1u);
-  const Shares f3 = score(s.keypoints[3], flags[3], 3);
-  ASSERT_GT(f3.in_walker, 20);
+  // Frame 3: the late mover's first move is caught by the judgement, not
+  // before (nothing carried it); the walker is pre-flagged from frame 2.
+  const Shares p3 = score(s.keypoints[3], ph[3].pre, 3);
+  const Shares f3 = score(s.keypoints[3], ph[3].judged, 3);
   ASSERT_GT(f3.in_late, 30);
-  EXPECT_GT(f3.walker_flagged, 0.9 * f3.in_walker);
-  EXPECT_EQ(f3.late_flagged, 0);
-  EXPECT_LT(f3.background_flagged, 0.02 * f3.background);
-}
-
-TEST(DynamicFeatureFilterBudget, WithoutCarryingADroppedFrameFlagsNothing) {
-  const Sequence s = makeSequence();
-  DynamicFeatureFilter filter(flowOnly(false), test::sceneCamera());
-  const auto flags = run(filter, s);
-  EXPECT_EQ(filter.droppedMotionFrames(), 1u);
-  const Shares f2 = score(s.keypoints[2], flags[2], 2);
-  EXPECT_GT(f2.walker_flagged, 0.9 * f2.in_walker);
-  int flagged3 = 0;
-  for (uint8_t f : flags[3]) flagged3 += f;
-  EXPECT_EQ(flagged3, 0);
-}
-
-TEST(DynamicFeatureFilterBudget, WholeBudgetKeepsBothMovers) {
-  // max_motion_fraction = 1: nothing is dropped, both movers are flagged in
-  // frame 3 (the check above is the budget's doing, not a blind spot).
-  const Sequence s = makeSequence();
-  DynamicFilterParams p = flowOnly(true);
-  p.max_motion_fraction = 1.0;
-  DynamicFeatureFilter filter(p, test::sceneCamera());
-  const auto flags = run(filter, s);
-  EXPECT_EQ(filter.droppedMotionFrames(), 0u);
-  const Shares f3 = score(s.keypoints[3], flags[3], 3);
+  EXPECT_GT(p3.walker_flagged, 0.9 * p3.in_walker);
+  EXPECT_EQ(p3.late_flagged, 0);
   EXPECT_GT(f3.walker_flagged, 0.9 * f3.in_walker);
   EXPECT_GT(f3.late_flagged, 0.8 * f3.in_late);
   EXPECT_LT(f3.background_flagged, 0.02 * f3.background);
 }
 
-// frameTracked: after tracking, the frame is re-judged under the tracker's
-// camera motion when the frame-to-frame fit disagrees with it. A walker
-// filling most of the view (250 x 190 of 320 x 240 px, 1.5 m away, 8 px left
-// and 10 px down a frame) outnumbers the two walls behind it (left half 3 m,
-// right half 2 m: 4 and 6 px left a frame, as the camera slides 4 cm along
-// x), so the RANSAC fit takes the walker's motion for the camera's and the
-// walker goes unflagged. (Two wall depths, because one plane and a walker
-// sliding in the image can be explained by one camera motion together.)
-// The tracker's pose (the true motion) corrects that.
+// Without the tracker's pose (lost frames) nothing is judged: the pre-flags
+// stay, and the late mover is never flagged.
+TEST(DynamicFeatureFilterTwoPhases, WithoutAPoseThePreFlagsStay) {
+  const Sequence s = makeSequence();
+  DynamicFeatureFilter filter(flowOnly(), test::sceneCamera());
+  for (std::size_t k = 0; k < s.frames.size(); ++k) {
+    const Phases p = step(filter, s, k, TrackedPose{});
+    EXPECT_FALSE(p.changed) << k;
+    EXPECT_EQ(p.judged, p.pre) << k;
+    EXPECT_EQ(score(s.keypoints[k], p.judged, int(k)).late_flagged, 0) << k;
+  }
+  EXPECT_EQ(filter.judgedFrames(), 0u);
+}
+
+// A pose that contradicts the map (here: the camera said to slide the other
+// way) makes the judgement flag the wall, which the tracker matched to the
+// map: the judgement is rejected and the frame keeps its pre-flags.
+TEST(DynamicFeatureFilterTwoPhases, JudgementContradictingTheMapIsRejected) {
+  const Sequence s = makeSequence();
+  DynamicFeatureFilter filter(flowOnly(), test::sceneCamera());
+  step(filter, s, 0, posed(0));
+  TrackedPose wrong = posed(0);
+  wrong.pose_wc(0, 3) = -0.04;
+  // The tracker's map inliers: the keypoints clear of both objects.
+  wrong.map_inliers.assign(s.keypoints[1].size(), 0);
+  for (std::size_t i = 0; i < s.keypoints[1].size(); ++i) {
+    const cv::Point p(cvRound(s.keypoints[1][i].pt.x), cvRound(s.keypoints[1][i].pt.y));
+    const cv::Rect w = walker(1), l = late_mover(1);
+    wrong.map_inliers[i] = !(w + cv::Size(16, 16) - cv::Point(8, 8)).contains(p) &&
+                           !(l + cv::Size(16, 16) - cv::Point(8, 8)).contains(p);
+  }
+  const Phases p = step(filter, s, 1, wrong);
+  EXPECT_FALSE(p.changed);
+  EXPECT_EQ(p.judged, p.pre);
+  EXPECT_EQ(filter.rejectedJudgements(), 1u);
+  // The same frame under the true pose, with the same map inliers, is used.
+  DynamicFeatureFilter right(flowOnly(), test::sceneCamera());
+  step(right, s, 0, posed(0));
+  TrackedPose truth = posed(1);
+  truth.map_inliers = wrong.map_inliers;
+  EXPECT_TRUE(step(right, s, 1, truth).changed);
+  EXPECT_EQ(right.rejectedJudgements(), 0u);
+}
+
+TEST(DynamicFeatureFilterTwoPhases, ProcessWithoutPrepareIsALogicError) {
+  const Sequence s = makeSequence();
+  DynamicFeatureFilter filter(flowOnly(), test::sceneCamera());
+  std::vector<uint8_t> dyn(s.keypoints[0].size(), 0);
+  EXPECT_THROW(filter.process(s.frames[0], s.gray[0], s.keypoints[0], dyn), std::logic_error);
+  filter.prepare(s.frames[0], s.gray[0]);
+  filter.process(s.frames[0], s.gray[0], s.keypoints[0], dyn);
+  EXPECT_THROW(filter.process(s.frames[0], s.gray[0], s.keypoints[0], dyn), std::logic_error);
+}
+
+// A walker filling most of the view (250 x 190 of 320 x 240 px, 1.5 m away,
+// 8 px left and 10 px down a frame) outnumbers the two walls behind it (left
+// half 3 m, right half 2 m: 4 and 6 px left a frame, as the camera slides
+// 4 cm along x). A camera motion fitted on these tracks (RANSAC) takes the
+// walker's motion for the camera's; the tracker's pose, from the map, does
+// not, so the judgement under it flags the walker and not the walls.
 cv::Rect crowd(int k) { return {35 - 8 * k, 20 + 10 * k, 250, 190}; }
 
 Sequence makeCrowdSequence() {
@@ -224,89 +267,50 @@ Shares scoreCrowd(const std::vector<cv::KeyPoint>& kps, const std::vector<uint8_
   return s;
 }
 
-cv::Matx44d slidingCamera(std::size_t k) {
-  cv::Matx44d pose_wc = cv::Matx44d::eye();
-  pose_wc(0, 3) = 0.04 * double(k);
-  return pose_wc;
-}
-
-// Frame 1: the fit is hijacked, the tracker's motion puts it right. Frame 2:
-// the points the recheck found moving are carried as seeds, so the check
-// flags the walker before tracking already; without the recheck (a filter
-// that never gets a pose) the fit stays hijacked.
-TEST(DynamicFeatureFilterRecheck, TrackersMotionCorrectsAFitHijackedByACrowd) {
+// Frame 1: judged under the tracker's motion, the walker is flagged. Frame
+// 2: its moving points, carried, pre-flag it before tracking already.
+TEST(DynamicFeatureFilterTwoPhases, CrowdFillingTheViewIsFlaggedNotTheWalls) {
   const Sequence s = makeCrowdSequence();
-  DynamicFilterParams p = flowOnly(true);
-  p.max_motion_fraction = 1.0;
-  DynamicFeatureFilter filter(p, test::sceneCamera()), without(p, test::sceneCamera());
+  DynamicFeatureFilter filter(flowOnly(), test::sceneCamera());
+  // The premise: a fit on the tracks themselves takes the walker for the scene.
+  {
+    MotionConsistencyCheck check(flowOnly().motion);
+    const MotionFrame a = check.makeFrame(s.gray[0], s.frames[0].depth),
+                      b = check.makeFrame(s.gray[1], s.frames[1].depth);
+    std::vector<cv::Point2f> pts;
+    for (const auto& kp : s.keypoints[0]) pts.push_back(kp.pt);
+    const MotionResult fit = check.check(a, b, pts, test::sceneCamera(), {});
+    std::vector<uint8_t> on_walker(s.keypoints[0].size(), 0);
+    int in = 0, flagged = 0;
+    const cv::Rect inner(crowd(0).x + 3, crowd(0).y + 3, crowd(0).width - 6, crowd(0).height - 6);
+    for (std::size_t i = 0; i < pts.size(); ++i)
+      if (fit.tracked[i] && inner.contains(cv::Point(cvRound(pts[i].x), cvRound(pts[i].y)))) {
+        ++in;
+        flagged += fit.dynamic[i];
+      }
+    ASSERT_GT(in, 100);
+    ASSERT_LT(flagged, 0.2 * in);
+  }
   for (std::size_t k = 0; k < s.frames.size(); ++k) {
-    std::vector<uint8_t> dyn(s.keypoints[k].size(), 0), plain = dyn;
-    filter.process(s.frames[k], s.gray[k], s.keypoints[k], dyn);
-    without.process(s.frames[k], s.gray[k], s.keypoints[k], plain);
-    const Shares before = scoreCrowd(s.keypoints[k], dyn, int(k));
-    const std::vector<uint8_t> pre = dyn;
-    const bool changed = filter.frameTracked(k, true, slidingCamera(k), dyn);
-    // The pixel mask (what the dense export leaves out) keeps both
-    // judgements: every keypoint flagged before or after lies on it.
+    const Phases p = step(filter, s, k, posed(k));
+    // The pixel mask (what the dense export leaves out) keeps the pre-flags
+    // and the judgement: every keypoint flagged before or after lies on it.
     std::size_t off_mask = 0;
-    for (std::size_t i = 0; i < dyn.size(); ++i) {
+    for (std::size_t i = 0; i < p.judged.size(); ++i) {
       const cv::Point q(cvRound(s.keypoints[k][i].pt.x), cvRound(s.keypoints[k][i].pt.y));
-      if ((pre[i] || dyn[i]) && !filter.lastMask().at<uint8_t>(q)) ++off_mask;
+      if ((p.pre[i] || p.judged[i]) && !filter.lastMask().at<uint8_t>(q)) ++off_mask;
     }
     EXPECT_EQ(off_mask, 0u) << k;
-    EXPECT_FALSE(without.frameTracked(k, false, cv::Matx44d::eye(), plain));
-    const Shares after = scoreCrowd(s.keypoints[k], dyn, int(k));
-    const Shares hijacked = scoreCrowd(s.keypoints[k], plain, int(k));
-    if (k == 0) {
-      EXPECT_FALSE(changed);  // no previous frame
-      continue;
-    }
+    if (k == 0) continue;
+    const Shares before = scoreCrowd(s.keypoints[k], p.pre, int(k));
+    const Shares after = scoreCrowd(s.keypoints[k], p.judged, int(k));
     ASSERT_GT(after.in_walker, 100);
     ASSERT_GT(after.background, 40);
-    // The premise: left to itself, the fit takes the walker for the scene.
-    ASSERT_LT(hijacked.walker_flagged, 0.2 * hijacked.in_walker) << k;
-    if (k == 1) {
-      EXPECT_LT(before.walker_flagged, 0.2 * before.in_walker);
-      EXPECT_TRUE(changed);
-    } else {
-      EXPECT_GT(before.walker_flagged, 0.9 * before.in_walker);  // carried seeds
-      EXPECT_GT(before.background_flagged, 0.5 * before.background);  // but the fit still is the walker's
-    }
+    EXPECT_TRUE(p.changed);
+    if (k == 2) EXPECT_GT(before.walker_flagged, 0.9 * before.in_walker);  // carried seeds
     EXPECT_GT(after.walker_flagged, 0.9 * after.in_walker) << k;
     // (Frame 2: the walls show only in strips 20-40 px wide along the
     // walker's edge, where occlusion spoils a good part of the LK tracks.)
     EXPECT_LT(after.background_flagged, (k == 1 ? 0.08 : 0.2) * after.background) << k;
   }
-  EXPECT_GE(filter.recheckedFrames(), 1u);
-}
-
-TEST(DynamicFeatureFilterRecheck, NoRecheckWhenTheFitAgreesLostOrOff) {
-  // The small walker: the fit is right, so the true motion agrees with it.
-  const Sequence s = makeSequence();
-  DynamicFilterParams p = flowOnly(true);
-  p.max_motion_fraction = 1.0;
-  DynamicFeatureFilter filter(p, test::sceneCamera());
-  for (std::size_t k = 0; k < s.frames.size(); ++k) {
-    std::vector<uint8_t> dyn(s.keypoints[k].size(), 0);
-    filter.process(s.frames[k], s.gray[k], s.keypoints[k], dyn);
-    const std::vector<uint8_t> before = dyn;
-    EXPECT_FALSE(filter.frameTracked(k, true, slidingCamera(k), dyn)) << k;
-    EXPECT_EQ(dyn, before) << k;
-  }
-  EXPECT_EQ(filter.recheckedFrames(), 0u);
-
-  // The crowd: a lost frame (no pose), and the recheck switched off.
-  const Sequence c = makeCrowdSequence();
-  DynamicFeatureFilter lost(p, test::sceneCamera());
-  p.recheck_disagreement_px = 0;
-  DynamicFeatureFilter off(p, test::sceneCamera());
-  for (std::size_t k = 0; k < c.frames.size(); ++k) {
-    std::vector<uint8_t> a(c.keypoints[k].size(), 0), b = a;
-    lost.process(c.frames[k], c.gray[k], c.keypoints[k], a);
-    off.process(c.frames[k], c.gray[k], c.keypoints[k], b);
-    EXPECT_FALSE(lost.frameTracked(k, k == 0, slidingCamera(k), a)) << k;
-    EXPECT_FALSE(off.frameTracked(k, true, slidingCamera(k), b)) << k;
-  }
-  EXPECT_EQ(lost.recheckedFrames(), 0u);
-  EXPECT_EQ(off.recheckedFrames(), 0u);
 }

@@ -25,7 +25,8 @@ Detection personBox(const cv::Rect2f& r, bool dynamic = true) {
 }
 
 // 3.0 m wall with +-1 cm noise and some holes; a person-like shape at 1.2 m
-// (torso ellipse, head circle, arm bar) inside a box that also shows the wall.
+// (torso ellipse, neck, head circle, arm bar: one surface) inside a box that
+// also shows the wall.
 void personScene(cv::Mat& depth, cv::Mat& object) {
   depth = cv::Mat(240, 320, CV_16U);
   cv::RNG rng(3);
@@ -36,6 +37,7 @@ void personScene(cv::Mat& depth, cv::Mat& object) {
   cv::ellipse(object, cv::Point(160, 140), cv::Size(35, 60), 0, 0, 360, cv::Scalar(255),
               cv::FILLED);
   cv::circle(object, cv::Point(160, 65), 18, cv::Scalar(255), cv::FILLED);
+  cv::rectangle(object, cv::Rect(154, 75, 12, 15), cv::Scalar(255), cv::FILLED);
   cv::rectangle(object, cv::Rect(190, 110, 50, 12), cv::Scalar(255), cv::FILLED);
   for (int y = 0; y < depth.rows; ++y)
     for (int x = 0; x < depth.cols; ++x)
@@ -61,6 +63,26 @@ TEST(BoxDepthMasker, FlagsOnlyTheObjectInsideTheBox) {
   expected.setTo(0, depth == 0);
   EXPECT_EQ(cv::countNonZero(mask & ~expected), 0) << "wall pixels flagged";
   EXPECT_EQ(cv::countNonZero(expected & ~mask), 0) << "object pixels missed";
+}
+
+// A close person's box also holds a monitor beside them at about the same
+// depth (within the depth band), parted from them by the wall behind: the
+// depth steps cut it off the object. With connected_step 0 it is flagged.
+TEST(BoxDepthMasker, SurfaceAtTheObjectsDepthBesideItIsNotTheObject) {
+  cv::Mat depth, object;
+  personScene(depth, object);
+  const cv::Rect monitor(212, 140, 30, 60);  // inside the box, clear of the arm
+  depth(monitor).setTo(uint16_t(1.35 * kScale));
+  const cv::Rect2f box(120, 45, 125, 160);
+  const cv::Mat mask = BoxDepthMasker().computeFromBoxes(depth, kScale, {personBox(box)});
+  cv::Mat expected = object.clone();
+  expected.setTo(0, depth == 0);
+  EXPECT_EQ(cv::countNonZero(mask(monitor)), 0) << "monitor flagged";
+  EXPECT_EQ(cv::countNonZero(expected & ~mask), 0) << "object pixels missed";
+  BoxDepthParams whole;
+  whole.connected_step = 0;
+  const cv::Mat band = BoxDepthMasker(whole).computeFromBoxes(depth, kScale, {personBox(box)});
+  EXPECT_EQ(cv::countNonZero(band(monitor)), monitor.area());
 }
 
 TEST(BoxDepthMasker, IgnoresNonDynamicClassesAndEmptyDepth) {

@@ -333,3 +333,44 @@ TEST(OrbExtractor, KeptPyramidImagesAndCopiesAreNotOverwritten) {
   ASSERT_EQ(from_copy.kps.size(), ref.kps.size());
   EXPECT_EQ(cv::norm(from_copy.desc, ref.desc, cv::NORM_HAMMING), 0.0);
 }
+
+// A mover covering half of a real frame (the mask the dynamic stage expects
+// it on): the static half keeps the keypoint count a whole frame gets, and
+// the mover keeps the same density of its own.
+TEST(OrbExtractor, MaskedHalfLeavesTheWholeBudgetToTheStaticHalf) {
+  const cv::Mat img = rpyFrame(150);
+  ASSERT_FALSE(img.empty());
+  OrbExtractor ex;
+  const Extraction plain = extract(img, ex);
+  cv::Mat mask(img.size(), CV_8U, cv::Scalar(0));
+  mask(cv::Rect(0, 0, img.cols / 2, img.rows)).setTo(255);
+  Extraction masked;
+  ex.extract(img, masked.kps, masked.desc, mask);
+  ASSERT_EQ(masked.desc.rows, int(masked.kps.size()));
+  int plain_static = 0, static_kps = 0, on_mask = 0;
+  for (const auto& k : plain.kps) plain_static += k.pt.x >= img.cols / 2;
+  for (const auto& k : masked.kps) (k.pt.x >= img.cols / 2 ? static_kps : on_mask)++;
+  // Without the mask the static half gets about half of the budget...
+  EXPECT_LT(plain_static, 0.7 * double(plain.kps.size()));
+  // ...with it, at least 90 % of the whole frame's count.
+  EXPECT_GE(static_kps, 0.9 * double(plain.kps.size()));
+  EXPECT_GT(on_mask, 0.3 * double(plain.kps.size()));
+  // Grouped by level as always.
+  for (std::size_t i = 1; i < masked.kps.size(); ++i)
+    ASSERT_LE(masked.kps[i - 1].octave, masked.kps[i].octave);
+  // An empty mask changes nothing.
+  Extraction none;
+  ex.extract(img, none.kps, none.desc, cv::Mat(img.size(), CV_8U, cv::Scalar(0)));
+  EXPECT_EQ(none.kps.size(), plain.kps.size());
+}
+
+TEST(OrbExtractor, BadMaskIsRejected) {
+  OrbExtractor ex;
+  const cv::Mat img(240, 320, CV_8U, cv::Scalar(0));
+  std::vector<cv::KeyPoint> kps;
+  cv::Mat desc;
+  EXPECT_THROW(ex.extract(img, kps, desc, cv::Mat(100, 100, CV_8U, cv::Scalar(0))),
+               std::invalid_argument);
+  EXPECT_THROW(ex.extract(img, kps, desc, cv::Mat(240, 320, CV_16U, cv::Scalar(0))),
+               std::invalid_argument);
+}

@@ -120,7 +120,8 @@ TEST(SystemRpy, First100FramesThroughLibrary) {
   EXPECT_EQ(static_cast<int>(report["tracked_frames"]), 100);
   EXPECT_EQ(static_cast<int>(report["lost_frames"]), 0);
   EXPECT_EQ(static_cast<int>(report["first_lost_frame"]), -1);
-  EXPECT_EQ(static_cast<std::string>(report["mode"]), "off");
+  // The library's default is the product's: the dynamic stage on.
+  EXPECT_EQ(static_cast<std::string>(report["mode"]), "detect+flow");
   EXPECT_EQ(static_cast<int>(report["keyframes"]), static_cast<int>(s.keyframes));
 
   const double rmse = checkRun(o.out_dir, 100);
@@ -150,7 +151,7 @@ TEST(SystemRpy, DeterministicRunsAreIdentical) {
   for (int k = 0; k < 2; ++k) {
     const std::string out = d / ("run" + std::to_string(k));
     const CommandResult r =
-        runDynslam({"run", rpyDir(), "-o", out, "--max-frames", "60", "--deterministic"});
+        runDynslam({"run", rpyDir(), "--mode", "off", "-o", out, "--max-frames", "60", "--deterministic"});
     ASSERT_EQ(r.exit_code, 0) << r.output;
     EXPECT_TRUE(contains(r.output, "60 frames, 60 tracked")) << r.output;
     traj[k] = readText(out + "/trajectory.txt");
@@ -171,7 +172,7 @@ TEST(SystemRpy, RawlogInput) {
   ASSERT_TRUE(fs::is_regular_file(rawlog));
 
   const std::string out = d / "out";
-  const CommandResult r = runDynslam({"run", rawlog, "-o", out, "--deterministic"});
+  const CommandResult r = runDynslam({"run", rawlog, "--mode", "off", "-o", out, "--deterministic"});
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_TRUE(contains(r.output, "40 frames, 40 tracked")) << r.output;
   const double rmse = checkRun(out, 40);
@@ -185,7 +186,7 @@ TEST(SystemRpy, RawlogInput) {
 
   const std::string out_folder = d / "out_folder";
   const CommandResult f =
-      runDynslam({"run", rpyDir(), "-o", out_folder, "--max-frames", "40", "--deterministic"});
+      runDynslam({"run", rpyDir(), "--mode", "off", "-o", out_folder, "--max-frames", "40", "--deterministic"});
   ASSERT_EQ(f.exit_code, 0) << f.output;
   const std::string from_rawlog = poseLines(out + "/trajectory.txt");
   EXPECT_FALSE(from_rawlog.empty());
@@ -242,9 +243,23 @@ TEST(SystemBadInput, ConfigWithWrongType) {
   expectConfigRejected("orb:\n  n_features: many\n", "n_features");
 }
 
-TEST(SystemBadInput, MotionFractionOutOfRange) {
-  for (const std::string v : {"0", "1.5", "-0.2"})
-    expectConfigRejected("dynamic:\n  max_motion_fraction: " + v + "\n", "max_motion_fraction");
+TEST(SystemBadInput, MapInliersFlaggedOutOfRange) {
+  for (const std::string v : {"0", "1.5", "-0.2", "abc"})
+    expectConfigRejected("dynamic:\n  max_map_inliers_flagged: " + v + "\n", "max_map_inliers_flagged");
+}
+
+TEST(SystemBadInput, BoxMaskValuesOutOfRange) {
+  for (const std::string v : {"-0.1", "1.5", "abc"})
+    expectConfigRejected("dynamic:\n  box_mask:\n    connected_step: " + v + "\n", "connected_step");
+  for (const std::string v : {"0", "-1"})
+    expectConfigRejected("dynamic:\n  box_mask:\n    depth_band_m: " + v + "\n", "depth_band_m");
+}
+
+TEST(SystemBadInput, RemovedDynamicKeysAreUnknown) {
+  // The mechanisms they tuned are gone (the motion check runs after tracking).
+  for (const std::string k : {"max_motion_fraction: 0.7", "recheck_disagreement_px: 1.5",
+                              "carry_last_regions: true"})
+    expectConfigRejected("dynamic:\n  " + k + "\n", k.substr(0, k.find(':')));
 }
 
 TEST(SystemBadInput, DynamicOrbFeaturesTooFew) {
@@ -252,18 +267,13 @@ TEST(SystemBadInput, DynamicOrbFeaturesTooFew) {
     expectConfigRejected("dynamic:\n  orb_features: " + v + "\n", "orb_features", "flow");
 }
 
-TEST(SystemBadInput, ReliableInlierRatioOutOfRange) {
-  for (const std::string v : {"-0.1", "1.2"})
-    expectConfigRejected("dynamic:\n  motion_check:\n    reliable_inlier_ratio: " + v + "\n",
-                         "reliable_inlier_ratio");
-}
-
-TEST(SystemBadInput, RecheckValuesRejected) {
-  for (const std::string v : {"-1", "-0.2", "abc"})
-    expectConfigRejected("dynamic:\n  recheck_disagreement_px: " + v + "\n", "recheck_disagreement_px");
+TEST(SystemBadInput, MotionCheckValuesRejected) {
   for (const std::string v : {"0", "-3", "abc"})
     expectConfigRejected("dynamic:\n  motion_check:\n    known_motion_gate_px: " + v + "\n",
                          "known_motion_gate_px");
+  for (const std::string v : {"-0.1", "1.2"})
+    expectConfigRejected("dynamic:\n  motion_check:\n    region_min_dynamic_ratio: " + v + "\n",
+                         "region_min_dynamic_ratio");
 }
 
 // A configured vocabulary that does not exist stops the run before any
@@ -400,7 +410,7 @@ TEST(SystemRpy, RelocalisesAfterABlackout) {
     }
   }
   const std::string out = d / "out";
-  const CommandResult r = runDynslam({"run", seq, "-o", out, "--deterministic"});
+  const CommandResult r = runDynslam({"run", seq, "--mode", "off", "-o", out, "--deterministic"});
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const dynslam::Trajectory est = dynslam::readTumTrajectory(out + "/trajectory.txt");
   std::size_t after_gap = 0;
@@ -436,13 +446,21 @@ TEST(SystemDynamic, ScoresAgainstTrueMasksOfAComposite) {
     cv::FileNode m = report["mask_scores"];
     EXPECT_EQ(static_cast<int>(m["frames_scored"]), 30);
     EXPECT_EQ(static_cast<int>(m["per_frame_walker_points_flagged_static_points_flagged"].size()), 30);
-    // The flags tracking used, before the re-check after tracking revised them.
+    // The flags tracking used, before the judgement after tracking replaced them.
     const cv::FileNode before = m["before_tracking"];
     EXPECT_TRUE(before.isMap());
     EXPECT_GE(static_cast<double>(before["recall"]), 0.0);
     EXPECT_LE(static_cast<double>(before["recall"]), 1.0);
     if (mode == "off") {
       EXPECT_EQ(static_cast<double>(before["recall"]), 0.0);
+    }
+    const cv::FileNode dyn = report["dynamic"];
+    if (mode == "flow") {
+      // The judgement under the tracker's motion runs on every frame after
+      // the first (all tracked here) and is what finds the walkers: the
+      // flags before it hold only the carried points.
+      EXPECT_GE(static_cast<int>(dyn["judged_frames"]), 25);
+      EXPECT_GT(static_cast<double>(m["recall"]), static_cast<double>(before["recall"]) + 0.1);
     }
     return std::make_tuple(static_cast<int>(m["walker_points"]), static_cast<int>(m["walker_flagged"]),
                            static_cast<double>(m["recall"]),
