@@ -117,6 +117,8 @@ void DynamicFeatureFilter::selectFlowPoints(const std::vector<cv::KeyPoint>& key
   // Carried dynamic points first: they keep the walker's region alive.
   prev_points_.assign(carried.begin(), carried.begin() + std::min(cap, carried.size()));
   prev_age_.assign(carried_age.begin(), carried_age.begin() + prev_points_.size());
+  prev_keypoint_.assign(prev_points_.size(), -1);
+  prev_map_inlier_.assign(prev_points_.size(), 0);
   // Then an even subsample of the keypoints (the extractor already spreads
   // them over the image, so a stride keeps that spread).
   const std::size_t budget = cap - prev_points_.size();
@@ -125,6 +127,8 @@ void DynamicFeatureFilter::selectFlowPoints(const std::vector<cv::KeyPoint>& key
   for (double t = 0; std::size_t(t) < n && prev_points_.size() < cap; t += step) {
     prev_points_.push_back(keypoints[std::size_t(t)].pt);
     prev_age_.push_back(0);
+    prev_keypoint_.push_back(int(t));
+    prev_map_inlier_.push_back(0);
   }
 }
 
@@ -181,6 +185,27 @@ cv::Mat DynamicFeatureFilter::prepare(const RGBDFrame& frame, const cv::Mat& gra
     if (!prev_motion_mask_.empty()) pre.mask = warpedMotionMask(cur_points, tracked);
     for (std::size_t i = 0; i < tracked.size(); ++i)
       if (tracked[i] && prev_age_[i]) pre.addMoving(cur_points[i], int(prev_age_[i]) - 1);
+    // The tracks' own camera-motion fit (RANSAC) finds what starts moving
+    // and what the map holds: an object that stood still long enough to
+    // enter the map and moves on, which the tracker's pose may follow. Its
+    // verdicts pre-flag only when they spare the previous frame's map
+    // inliers (max_map_inliers_flagged): a fit that movers filling the view
+    // hijack flags the static scene, which the map holds most of.
+    const MotionResult fit = motion_.classify(prev_points_, cur_points, tracked, prev_.depth,
+                                              cur.depth, camera_, boxes_now_, gray.size());
+    std::size_t inliers = 0, inliers_moving = 0;
+    for (std::size_t i = 0; i < tracked.size(); ++i)
+      if (tracked[i] && prev_map_inlier_[i]) {
+        ++inliers;
+        inliers_moving += fit.dynamic[i];
+      }
+    if (fit.geometry.reliable && inliers > 0 &&
+        double(inliers_moving) <= p_.max_map_inliers_flagged * double(inliers)) {
+      if (pre.mask.empty()) pre.mask = fit.mask.clone();
+      else pre.mask |= fit.mask;
+      for (std::size_t i = 0; i < tracked.size(); ++i)
+        if (tracked[i] && fit.dynamic[i]) pre.moving.push_back(cur_points[i]);
+    }
   }
   t0 = cv::getTickCount();
   cv::Mat box_mask = boxMask(frame, pre.moving);
@@ -255,6 +280,11 @@ bool DynamicFeatureFilter::frameTracked(std::size_t index, const TrackedPose& po
   judge_.frame = -1;
   tracked_frame_ = pose.has_pose ? f : -1;
   tracked_pose_ = pose.pose_wc;
+  // Which of the points the next frame tracks the map held (for its fit).
+  for (std::size_t k = 0; k < prev_keypoint_.size(); ++k) {
+    const int i = prev_keypoint_[k];
+    prev_map_inlier_[k] = i >= 0 && std::size_t(i) < pose.map_inliers.size() && pose.map_inliers[i];
+  }
   return changed;
 }
 

@@ -16,9 +16,14 @@
 // the view, a camera motion fitted on the tracks themselves (RANSAC) takes
 // their motion for the camera's and flags the static scene. The tracker's
 // pose comes from the map, which movers cannot hijack that way. So
-//   1. process(), before tracking, pre-flags the keypoints on the carried
-//      detector boxes (at the object's depth) and on the last judgement's
-//      moving points and regions, moved along by their flow;
+//   1. prepare() and process(), before tracking, pre-flag the keypoints on
+//      the carried detector boxes (at the object's depth), on the last
+//      judgement's moving points and regions (moved along by their flow),
+//      and on what the tracks' own RANSAC fit finds moving when that spares
+//      the previous frame's map inliers (an object that stood still long
+//      enough to enter the map and moves on would otherwise pull the
+//      tracker's pose along; a fit that movers hijack flags the map's
+//      static scene instead, and is not used);
 //   2. the tracker estimates the pose without the pre-flagged keypoints;
 //   3. frameTracked() classifies every track once under the tracker's
 //      motion: those flags replace the pre-flags for the keyframe decision
@@ -83,7 +88,8 @@ struct DynamicFilterParams {
   /// A judgement under the tracker's motion that flags more than this share
   /// of the keypoints the tracker matched to the map (static by the map's
   /// evidence) is not trusted: blur or a wrong pose, not movers; the frame
-  /// keeps its pre-flags.
+  /// keeps its pre-flags. The tracks' own fit before tracking pre-flags only
+  /// under the same bound, on the previous frame's map inliers.
   double max_map_inliers_flagged = 0.2;
   YoloDetectorParams detector;
   BoxDepthParams box_mask;
@@ -185,6 +191,10 @@ class DynamicFeatureFilter : public ObservationPreprocessor {
   std::vector<cv::Point2f> prev_points_;
   // Per prev point: frames left to carry it as dynamic (0 = a plain keypoint).
   std::vector<uint8_t> prev_age_;
+  // Per prev point: its keypoint in the previous frame (-1: carried), and
+  // whether the tracker matched that keypoint to the map.
+  std::vector<int> prev_keypoint_;
+  std::vector<uint8_t> prev_map_inlier_;
   bool have_prev_ = false;
   cv::Mat prev_motion_mask_;  // motion regions of the previous frame's last judgement
   long frame_ = -1;

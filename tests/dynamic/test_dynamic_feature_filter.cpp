@@ -209,6 +209,60 @@ TEST(DynamicFeatureFilterTwoPhases, JudgementContradictingTheMapIsRejected) {
   EXPECT_EQ(right.rejectedJudgements(), 0u);
 }
 
+cv::Rect crowd(int k);
+Sequence makeCrowdSequence();
+Shares scoreCrowd(const std::vector<cv::KeyPoint>& kps, const std::vector<uint8_t>& dyn, int k);
+
+// The map's keypoints of a frame: those clear (8 px) of the given boxes.
+std::vector<uint8_t> mapInliersOff(const std::vector<cv::KeyPoint>& kps,
+                                   const std::vector<cv::Rect>& movers) {
+  std::vector<uint8_t> in(kps.size(), 1);
+  for (std::size_t i = 0; i < kps.size(); ++i) {
+    const cv::Point p(cvRound(kps[i].pt.x), cvRound(kps[i].pt.y));
+    for (const cv::Rect& r : movers)
+      if ((r + cv::Size(16, 16) - cv::Point(8, 8)).contains(p)) in[i] = 0;
+  }
+  return in;
+}
+
+// An object the map holds (it stood still) starts moving in frame 3: the
+// tracks' own fit pre-flags it before tracking, since its verdicts spare
+// the map's keypoints (the walls). Without the map's keypoints (no tracked
+// pose before) the fit is not used.
+TEST(DynamicFeatureFilterTwoPhases, TracksFitPreFlagsAMapObjectThatStartsMoving) {
+  const Sequence s = makeSequence();
+  DynamicFeatureFilter filter(flowOnly(), test::sceneCamera()), blind(flowOnly(), test::sceneCamera());
+  Phases p3, b3;
+  for (std::size_t k = 0; k < s.frames.size(); ++k) {
+    TrackedPose t = posed(k);
+    t.map_inliers = mapInliersOff(s.keypoints[k], {walker(int(k))});  // the late mover is in the map
+    const Phases p = step(filter, s, k, t);
+    const Phases b = step(blind, s, k, posed(k));
+    if (k == 3) p3 = p, b3 = b;
+  }
+  const Shares with = score(s.keypoints[3], p3.pre, 3), without = score(s.keypoints[3], b3.pre, 3);
+  ASSERT_GT(with.in_late, 30);
+  EXPECT_GT(with.late_flagged, 0.8 * with.in_late);
+  EXPECT_LT(with.background_flagged, 0.02 * with.background);
+  EXPECT_EQ(without.late_flagged, 0);
+}
+
+// The crowd hijacks the tracks' fit, which then flags the walls the map
+// holds: its verdicts are not used before tracking.
+TEST(DynamicFeatureFilterTwoPhases, HijackedTracksFitDoesNotPreFlagTheMap) {
+  const Sequence s = makeCrowdSequence();
+  DynamicFeatureFilter filter(flowOnly(), test::sceneCamera());
+  TrackedPose t0 = posed(0);
+  t0.map_inliers = mapInliersOff(s.keypoints[0], {crowd(0)});
+  step(filter, s, 0, t0);
+  TrackedPose t1 = posed(1);
+  t1.map_inliers = mapInliersOff(s.keypoints[1], {crowd(1)});
+  const Phases p = step(filter, s, 1, t1);
+  const Shares before = scoreCrowd(s.keypoints[1], p.pre, 1);
+  ASSERT_GT(before.background, 40);
+  EXPECT_LT(before.background_flagged, 0.05 * before.background);
+}
+
 TEST(DynamicFeatureFilterTwoPhases, ProcessWithoutPrepareIsALogicError) {
   const Sequence s = makeSequence();
   DynamicFeatureFilter filter(flowOnly(), test::sceneCamera());
