@@ -75,7 +75,7 @@ cv::Mat BoxDepthMasker::computeFromBoxes(const cv::Mat& depth, double depth_scal
   const cv::Rect img(0, 0, depth.cols, depth.rows);
   for (std::size_t i = 0; i < boxes.size(); ++i) {
     const Detection& d = boxes[i];
-    if (params_.dynamic_classes_only && !d.dynamic_class) continue;
+    if (!d.dynamic_class) continue;  // only classes that may move
     const float px = d.box.width * params_.box_padding, py = d.box.height * params_.box_padding;
     const cv::Rect box =
         cv::Rect(cv::Point(int(std::floor(d.box.x - px)), int(std::floor(d.box.y - py))),

@@ -39,8 +39,6 @@ struct BoxDepthParams {
   /// depth separate surfaces, and only the surfaces in the box's centre are
   /// the object (0 = every pixel in the band).
   float connected_step = 0.04f;
-  /// Only boxes with Detection::dynamic_class are used.
-  bool dynamic_classes_only = true;
 };
 
 class BoxDepthMasker {

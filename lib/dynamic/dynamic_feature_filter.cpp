@@ -137,7 +137,7 @@ cv::Mat DynamicFeatureFilter::prepare(const RGBDFrame& frame, const cv::Mat& gra
   ++frame_;
   prepared_frame_ = frame_;
   mask_ = cv::Mat::zeros(gray.size(), CV_8UC1);
-  const bool need_lk = p_.use_flow || (p_.use_detector && p_.carry_boxes);
+  const bool need_lk = p_.use_flow || p_.use_detector;  // the boxes are carried by the flow
   if (p_.use_detector) submitToDetector(frame.rgb, frame_);
 
   // Pyramid of this frame (the pipeline reuses its grey buffer: keep a copy).
@@ -159,7 +159,7 @@ cv::Mat DynamicFeatureFilter::prepare(const RGBDFrame& frame, const cv::Mat& gra
   t0 = cv::getTickCount();
   boxes_now_.clear();
   if (p_.use_detector) {
-    if (have_flow && p_.carry_boxes) {
+    if (have_flow) {
       FlowStep step;
       step.to_frame = frame_;
       for (std::size_t i = 0; i < tracked.size(); ++i)

@@ -74,9 +74,6 @@ struct DynamicFilterParams {
   /// Previous-frame keypoints tracked by LK per frame (0 = all). Keypoints
   /// carried as dynamic are always among them.
   int max_flow_points = 500;
-  /// Carry detector boxes between detector runs by optical flow (also in
-  /// mode detect, where LK then runs for the carrying alone).
-  bool carry_boxes = true;
   /// Points that failed the motion tests are tracked on by LK for this many
   /// frames as dynamic seeds (a walker moving in t is still there in t+1,
   /// even where its residuals dip under the threshold); 0 = off.

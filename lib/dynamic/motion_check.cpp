@@ -141,7 +141,7 @@ GeometryResult classifyMotion(const Correspondences& c, const cv::Matx33d& K,
   // Only needed for points without depth or pose (see fundamental_with_pose).
   // Without F, points lacking depth are judged by the region mask alone.
   // A known motion gives F directly (none when it is a pure rotation).
-  const bool need_f = params.fundamental_with_pose || params.always_use_epipolar || !r.has_pose;
+  const bool need_f = params.fundamental_with_pose || !r.has_pose;
   if (known && need_f) {
     if (cv::norm(r.t) > 1e-3) {
       const cv::Matx33d tx(0, -r.t[2], r.t[1], r.t[2], 0, -r.t[0], -r.t[1], r.t[0], 0);
@@ -216,7 +216,7 @@ GeometryResult classifyMotion(const Correspondences& c, const cv::Matx33d& K,
   r.reliable = known ? true
               : r.has_pose ? r.pose_inliers >= params.reliable_inlier_ratio * r.pose_candidates
                            : r.has_fundamental;
-  if (!r.reliable && params.unreliable_clears_flags) return r;
+  if (!r.reliable) return r;
 
   for (std::size_t i = 0; i < n; ++i) {
     // NaN compares false: an unavailable test never flags a point.
@@ -224,8 +224,7 @@ GeometryResult classifyMotion(const Correspondences& c, const cv::Matx33d& K,
     // epipolar distance), so where it exists the epipolar test only adds
     // noise; it is the fallback for points without depth or pose.
     const bool has_rep = !std::isnan(r.reprojection_error[i]);
-    const bool epi =
-        (!has_rep || params.always_use_epipolar) && r.epipolar_error[i] > r.epipolar_threshold;
+    const bool epi = !has_rep && r.epipolar_error[i] > r.epipolar_threshold;
     const bool rep = has_rep && r.reprojection_error[i] > r.reprojection_threshold;
     const bool dep = params.depth_tolerance > 0 && r.depth_error[i] > params.depth_tolerance;
     r.dynamic[i] = (epi || rep || dep) ? 1 : 0;
@@ -428,16 +427,15 @@ MotionResult MotionConsistencyCheck::classify(
     if (!res.geometry.dynamic[k] && !carried) continue;
     moving[k] = 1;
     seeds.push_back(raw_cur[k]);
-    cv::Rect lim;
-    if (params_.grow_within_boxes)
-      for (const auto& b : boxes)
-        if (b.dynamic_class && b.box.contains(raw_cur[k])) {
-          const float px = 0.1f * b.box.width, py = 0.1f * b.box.height;
-          lim = cv::Rect(
-              cv::Point(int(b.box.x - px), int(b.box.y - py)),
-              cv::Point(int(b.box.x + b.box.width + px) + 1, int(b.box.y + b.box.height + py) + 1));
-          break;
-        }
+    cv::Rect lim;  // a point inside a dynamic box grows within that box
+    for (const auto& b : boxes)
+      if (b.dynamic_class && b.box.contains(raw_cur[k])) {
+        const float px = 0.1f * b.box.width, py = 0.1f * b.box.height;
+        lim = cv::Rect(
+            cv::Point(int(b.box.x - px), int(b.box.y - py)),
+            cv::Point(int(b.box.x + b.box.width + px) + 1, int(b.box.y + b.box.height + py) + 1));
+        break;
+      }
     limits.push_back(lim);
   }
   res.ms_geometry = msSince(t0);
@@ -447,7 +445,7 @@ MotionResult MotionConsistencyCheck::classify(
   t0 = cv::getTickCount();
   // In an unreliable frame (blur, rolling shutter) the carried seeds are LK
   // tracks through the same blur: no regions are grown from them.
-  if (!res.geometry.reliable && params_.unreliable_clears_flags) seeds.clear();
+  if (!res.geometry.reliable) seeds.clear();
   if (!seeds.empty() && !cur_depth.empty()) {
     const int ds = std::max(1, params_.mask_downsample);
     const cv::Size grid(image_size.width / ds, image_size.height / ds);
@@ -485,7 +483,7 @@ MotionResult MotionConsistencyCheck::classify(
       keep[l] =
           dyn[l] >= params_.grow.min_seeds && dyn[l] >= params_.region_min_dynamic_ratio * total[l];
     cv::Mat mask = grower_.maskOf(keep);
-    if (params_.carve_static && cv::countNonZero(mask) > 0) {
+    if (cv::countNonZero(mask) > 0) {
       // Depth regions leak where a person touches furniture at the same
       // depth; static tracked points inside the region say where the
       // furniture is. Keep only pixels closer to a moving point than to such
@@ -518,9 +516,6 @@ MotionResult MotionConsistencyCheck::classify(
       cv::resize(mask, res.mask, image_size, 0, 0, cv::INTER_NEAREST);
     else
       res.mask = mask;
-    if (params_.region_fills_flags)
-      for (std::size_t k = 0; k < m; ++k)
-        if (keep[label_of[k]]) res.dynamic[res.tracked_index[k]] = 1;
   }
   res.ms_mask = msSince(t0);
   return res;

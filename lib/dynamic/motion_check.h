@@ -81,11 +81,9 @@ struct MotionCheckParams {
   int lk_downsample = 2;
   // --- geometry
   float epipolar_threshold_px = 1.0f;  ///< sigma of the epipolar test
-  /// false: the epipolar test judges only points the reprojection test cannot
-  /// (no depth or no pose); true: a point is dynamic when either test fails.
-  bool always_use_epipolar = false;
-  /// Fit F also when the PnP pose succeeded (only needed for points without
-  /// depth, or with always_use_epipolar); false saves the F RANSAC.
+  /// (The epipolar test judges only the points the reprojection test cannot:
+  /// no depth or no pose.) Fit F also when the PnP pose succeeded (only
+  /// needed for points without depth); false saves the F RANSAC.
   bool fundamental_with_pose = true;
   float reprojection_threshold_px = 3.0f;  ///< depth-backed reprojection test
   /// Per frame, each threshold is raised to k x the robust residual sigma of
@@ -112,24 +110,19 @@ struct MotionCheckParams {
   /// with depth is "unreliable" (strong blur, rolling-shutter skew)...
   float reliable_inlier_ratio = 0.5f;
   /// ...and then flags nothing (its verdicts are mostly noise: on fr1_rpy
-  /// 30-60 % of static points in such frames); false: flag as usual.
-  bool unreliable_clears_flags = true;
+  /// 30-60 % of static points in such frames).
   // --- mask
   RegionGrowParams grow;
-  /// Restrict region growing from a point inside a dynamic box to that box.
-  bool grow_within_boxes = true;
+  // (Region growing from a point inside a dynamic box stays in that box.)
   /// A grown region is dynamic when at least this share of the tracked
   /// points inside it (and grow.min_seeds of them) failed the tests.
   float region_min_dynamic_ratio = 0.4f;
-  /// true: tracked points inside a dynamic region are flagged too (fills in
-  /// the points of a person the tests missed). Flags are never cleared by the
-  /// vote: people touching furniture share a depth region with it, and the
-  /// vote then fails although their own points did move.
-  bool region_fills_flags = false;
-  /// Cut each grown region down to the pixels closer to a moving tracked
-  /// point than to a static one (regions leak into furniture a person touches).
-  bool carve_static = true;
-  /// With carve_static: region pixels farther than this (px) from every
+  // (Flags are never cleared by the vote: people touching furniture share a
+  // depth region with it, and the vote then fails although their own points
+  // did move. Each grown region is cut down to the pixels closer to a moving
+  // tracked point than to a static one: regions leak into furniture a
+  // person touches.)
+  /// Region pixels farther than this (px) from every
   /// moving or carried point are cut (regions leak along floors, desks and
   /// walls the person touches); 0 = no limit.
   float max_seed_distance_px = 80.f;
