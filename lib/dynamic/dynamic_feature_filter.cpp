@@ -4,6 +4,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 
@@ -12,6 +13,20 @@ namespace {
 
 double msSince(int64 t0) {
   return double(cv::getTickCount() - t0) * 1000.0 / cv::getTickFrequency();
+}
+
+// Share of the map's keypoints (map_inlier[i], where valid[i]; valid may be
+// empty: all) that `flags` marks dynamic; NaN without any, so that every
+// comparison with a bound is false.
+double mapInliersFlagged(const std::vector<uint8_t>& map_inlier, const std::vector<uint8_t>& flags,
+                         const std::vector<uint8_t>& valid) {
+  std::size_t inliers = 0, flagged = 0;
+  for (std::size_t i = 0; i < map_inlier.size() && i < flags.size(); ++i)
+    if (map_inlier[i] && (valid.empty() || valid[i])) {
+      ++inliers;
+      flagged += flags[i] != 0;
+    }
+  return inliers ? double(flagged) / double(inliers) : std::nan("");
 }
 
 }  // namespace
@@ -137,21 +152,20 @@ cv::Mat DynamicFeatureFilter::prepare(const RGBDFrame& frame, const cv::Mat& gra
   ++frame_;
   prepared_frame_ = frame_;
   mask_ = cv::Mat::zeros(gray.size(), CV_8UC1);
-  const bool need_lk = p_.use_flow || p_.use_detector;  // the boxes are carried by the flow
   if (p_.use_detector) submitToDetector(frame.rgb, frame_);
 
-  // Pyramid of this frame (the pipeline reuses its grey buffer: keep a copy).
+  // Pyramid of this frame (the pipeline reuses its grey buffer: keep a copy);
+  // both cues need the LK flow (the boxes are carried by it).
   int64 t0 = cv::getTickCount();
   MotionFrame& cur = cur_;
-  cur = MotionFrame();
-  if (need_lk) cur = motion_.makeFrame(gray.clone(), frame.depth);
+  cur = motion_.makeFrame(gray.clone(), frame.depth);
   times_["pyramid"].push_back(msSince(t0));
 
   // LK of the previous frame's selected keypoints.
   t0 = cv::getTickCount();
   std::vector<uint8_t> tracked;
   std::vector<cv::Point2f> cur_points;
-  const bool have_flow = need_lk && have_prev_ && !prev_points_.empty();
+  const bool have_flow = have_prev_ && !prev_points_.empty();
   if (have_flow) cur_points = motion_.track(prev_, cur, prev_points_, tracked);
   times_["lk"].push_back(msSince(t0));
 
@@ -193,14 +207,8 @@ cv::Mat DynamicFeatureFilter::prepare(const RGBDFrame& frame, const cv::Mat& gra
     // hijack flags the static scene, which the map holds most of.
     const MotionResult fit = motion_.classify(prev_points_, cur_points, tracked, prev_.depth,
                                               cur.depth, camera_, boxes_now_, gray.size());
-    std::size_t inliers = 0, inliers_moving = 0;
-    for (std::size_t i = 0; i < tracked.size(); ++i)
-      if (tracked[i] && prev_map_inlier_[i]) {
-        ++inliers;
-        inliers_moving += fit.dynamic[i];
-      }
-    if (fit.geometry.reliable && inliers > 0 &&
-        double(inliers_moving) <= p_.max_map_inliers_flagged * double(inliers)) {
+    if (fit.geometry.reliable &&
+        mapInliersFlagged(prev_map_inlier_, fit.dynamic, tracked) <= p_.max_map_inliers_flagged) {
       if (pre.mask.empty()) pre.mask = fit.mask.clone();
       else pre.mask |= fit.mask;
       for (std::size_t i = 0; i < tracked.size(); ++i)
@@ -215,8 +223,9 @@ cv::Mat DynamicFeatureFilter::prepare(const RGBDFrame& frame, const cv::Mat& gra
   if (p_.use_flow && have_flow) {
     Judgement& j = judge_;
     j.frame = frame_;
-    j.prev_points = prev_points_;
-    j.prev_age = prev_age_;
+    // process() selects the next frame's points anew: these are done with.
+    j.prev_points = std::move(prev_points_);
+    j.prev_age = std::move(prev_age_);
     j.cur_points = std::move(cur_points);
     j.tracked = std::move(tracked);
     j.prev_depth = prev_.depth;
@@ -245,14 +254,12 @@ void DynamicFeatureFilter::process(const RGBDFrame&, const cv::Mat&,
   if (!debug_dir_.empty())
     std::fprintf(stderr, "[dynamic] frame %ld: %zu keypoints, %zu pre-flagged, %zu boxes, %zu carried\n",
                  frame_, keypoints.size(), flagged, boxes_now_.size(), pre_carried_.size());
-  if (!cur_.pyramid.empty()) {
-    // Untracked frames go on from the carried points, one frame older;
-    // frameTracked() replaces them with the new judgement's.
-    selectFlowPoints(keypoints, pre_carried_, pre_carried_age_);
-    prev_ = std::move(cur_);
-    cur_ = MotionFrame();
-    have_prev_ = true;
-  }
+  // Untracked frames go on from the carried points, one frame older;
+  // frameTracked() replaces them with the new judgement's.
+  selectFlowPoints(keypoints, pre_carried_, pre_carried_age_);
+  prev_ = std::move(cur_);
+  cur_ = MotionFrame();
+  have_prev_ = true;
   times_["total"].push_back(prepare_ms_ + msSince(t0));
 }
 
@@ -343,19 +350,14 @@ bool DynamicFeatureFilter::judge(const cv::Matx44d& prev_pose_wc, const TrackedP
   const std::size_t flagged = flagOnMask(j.keypoints, verdict);
   // The map's evidence: keypoints the tracker matched to map points under
   // this pose are static; a judgement flagging most of them is wrong.
-  std::size_t inliers = 0, inliers_flagged = 0;
-  for (std::size_t i = 0; i < verdict.size() && i < pose.map_inliers.size(); ++i)
-    if (pose.map_inliers[i]) {
-      ++inliers;
-      inliers_flagged += verdict[i] != 0;
-    }
+  const double inliers_flagged = mapInliersFlagged(pose.map_inliers, verdict, {});
   times_["judge"].push_back(msSince(t0));
-  if (inliers > 0 && double(inliers_flagged) > p_.max_map_inliers_flagged * double(inliers)) {
+  if (inliers_flagged > p_.max_map_inliers_flagged) {
     ++rejected_judgements_;
     mask_ = before;
     if (!debug_dir_.empty())
-      std::fprintf(stderr, "[dynamic] frame %ld: judgement rejected: %zu of %zu map inliers flagged\n",
-                   frame_, inliers_flagged, inliers);
+      std::fprintf(stderr, "[dynamic] frame %ld: judgement rejected: %.2f of the map inliers flagged\n",
+                   frame_, inliers_flagged);
     return false;
   }
   dynamic = std::move(verdict);

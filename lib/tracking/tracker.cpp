@@ -32,12 +32,10 @@ TrackResult Tracker::estimatePose(std::shared_ptr<const FeatureSet> features, st
   cur_ = Frame(next_frame_id_++, index, timestamp, std::move(features));
   pending_ = TrackResult();
   pending_open_ = true;
-  initialised_now_ = false;
   if (state_ == TrackingState::kNotInitialized) {
     if (initialize()) {
       state_ = TrackingState::kOk;
-      pending_.new_keyframe = true;
-      initialised_now_ = true;
+      pending_.new_keyframe = true;  // the map's first keyframe
     }
   } else {
     bool ok = false;
@@ -78,8 +76,9 @@ TrackResult Tracker::finishFrame(bool flags_changed) {
   if (!pending_open_) throw std::logic_error("Tracker::finishFrame without estimatePose");
   pending_open_ = false;
   TrackResult res = pending_;
-  // The map's first frame made its keyframe from the flags it came with.
-  if (!initialised_now_ && res.has_pose) {
+  // A keyframe already (the map's first frame): made from the flags it came
+  // with, nothing left to decide.
+  if (!res.new_keyframe && res.has_pose) {
     if (flags_changed) dropMatchesOnDynamic();
     if (needNewKeyFrame()) {
       createKeyFrame();
@@ -102,17 +101,14 @@ TrackResult Tracker::finishFrame(bool flags_changed) {
   return res;
 }
 
-std::vector<uint8_t> Tracker::currentMapInliers() const {
-  std::vector<uint8_t> in(cur_.points.size(), 0);
-  for (std::size_t i = 0; i < cur_.points.size(); ++i)
-    in[i] = cur_.points[i] && !cur_.outlier[i] && cur_.points[i]->nObs() > 0;
-  return in;
+bool Tracker::isMapInlier(std::size_t i) const {
+  return cur_.points[i] && !cur_.outlier[i] && cur_.points[i]->nObs() > 0;
 }
 
-TrackResult Tracker::track(std::shared_ptr<const FeatureSet> features, std::size_t index,
-                           double timestamp) {
-  estimatePose(std::move(features), index, timestamp);
-  return finishFrame(false);
+std::vector<uint8_t> Tracker::currentMapInliers() const {
+  std::vector<uint8_t> in(cur_.points.size(), 0);
+  for (std::size_t i = 0; i < cur_.points.size(); ++i) in[i] = isMapInlier(i);
+  return in;
 }
 
 bool Tracker::predictMotion(double dt, mrpt::poses::CPose3D& motion) const {
@@ -447,12 +443,9 @@ bool Tracker::trackLocalMap() {
   optimizeCurrentPose();
   inliers_ = 0;
   for (std::size_t i = 0; i < cur_.points.size(); ++i) {
-    MapPoint* mp = cur_.points[i];
-    if (!mp || cur_.outlier[i]) continue;
-    if (mp->nObs() > 0) {
-      mp->found++;
-      ++inliers_;
-    }
+    if (!isMapInlier(i)) continue;
+    cur_.points[i]->found++;
+    ++inliers_;
   }
   return inliers_ >= p_.min_inliers_local;
 }
@@ -466,7 +459,7 @@ void Tracker::dropMatchesOnDynamic() {
       cur_.points[i] = nullptr;
       continue;
     }
-    if (!cur_.outlier[i] && cur_.points[i]->nObs() > 0) ++inliers_;
+    if (isMapInlier(i)) ++inliers_;
   }
 }
 
@@ -479,7 +472,7 @@ bool Tracker::needNewKeyFrame() const {
   int close_tracked = 0, close_untracked = 0;
   for (std::size_t i = 0; i < f.size(); ++i) {
     if (f.dynamic[i] || f.depth[i] <= 0 || f.depth[i] >= f.ctx->close_depth) continue;
-    if (cur_.points[i] && !cur_.outlier[i] && cur_.points[i]->nObs() > 0) ++close_tracked;
+    if (isMapInlier(i)) ++close_tracked;
     else ++close_untracked;
   }
   const bool need_close =

@@ -96,9 +96,6 @@ class Tracker {
   /// After estimatePose(): per keypoint, 1 = matched to a map point and an
   /// inlier of the pose.
   std::vector<uint8_t> currentMapInliers() const;
-  /// estimatePose() and finishFrame(false) in one.
-  TrackResult track(std::shared_ptr<const FeatureSet> features, std::size_t index,
-                    double timestamp);
 
   TrackingState state() const { return state_; }
   /// Optional; not owned.
@@ -145,6 +142,9 @@ class Tracker {
   /// After the flags changed between the phases: matches on keypoints now dynamic go,
   /// and inliers_ is recounted.
   void dropMatchesOnDynamic();
+  /// Keypoint i of the current frame is matched to a map point (one with
+  /// observations, not a temporal point) and an inlier of the pose.
+  bool isMapInlier(std::size_t i) const;
   void updateLastFrame();
   /// Keypoints with depth, nearest first: every close one (depth below
   /// close_depth) and at least kf_min_new_points in all.
@@ -180,7 +180,6 @@ class Tracker {
   // Between estimatePose() and finishFrame().
   TrackResult pending_;
   bool pending_open_ = false;
-  bool initialised_now_ = false;
 };
 
 }  // namespace dynslam
