@@ -60,12 +60,13 @@ struct DynamicFilterParams {
   /// static rest must still carry tracking when they fill the view.
   int orb_features = 1500;
   /// Run the detector in a background thread on the newest frame (false:
-  /// synchronously, reproducible but slow).
+  /// synchronously, reproducible: set by --deterministic).
   bool async_detector = true;
   /// Give the detector a frame at most every this many frames (1: whenever it
-  /// is idle). Larger values leave CPU to tracking on small machines; the
-  /// carried boxes fill the gaps.
-  int detector_interval = 1;
+  /// is idle). A forward pass costs about three frames' worth of CPU on a
+  /// 2-core machine; the boxes carried by the flow fill the gaps (the walker
+  /// recall does not drop up to 4, see docs/benchmarks.md).
+  int detector_interval = 4;
   /// Keypoints within this distance (px) of a dynamic pixel are flagged.
   int mask_margin_px = 4;
   /// Radius (px) of the disc marked around each point that failed the motion

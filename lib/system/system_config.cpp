@@ -93,7 +93,6 @@ SlamConfig loadSlamConfig(const std::string& path) {
   DynamicFilterParams& d = c.dynamic;
   ConfigSection dy = root.sub("dynamic");
   dy.read("orb_features", d.orb_features)
-      .read("async_detector", d.async_detector)
       .read("mask_margin_px", d.mask_margin_px)
       .read("max_flow_points", d.max_flow_points)
       .read("carry_frames", d.carry_frames)
@@ -108,7 +107,10 @@ SlamConfig loadSlamConfig(const std::string& path) {
   std::string model;
   det.read("model", model)
       .read("conf_threshold", d.detector.conf_threshold)
-      .read("nms_iou", d.detector.nms_iou);
+      .read("nms_iou", d.detector.nms_iou)
+      .read("interval_frames", d.detector_interval);
+  if (d.detector_interval < 1)
+    throw InputError(path, "dynamic.detector: interval_frames >= 1 required");
   if (!model.empty()) {
     // Relative model paths are relative to the config file's folder.
     const std::filesystem::path mp(model);

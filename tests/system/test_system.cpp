@@ -262,6 +262,16 @@ TEST(SystemBadInput, RemovedDynamicKeysAreUnknown) {
     expectConfigRejected("dynamic:\n  " + k + "\n", k.substr(0, k.find(':')));
 }
 
+TEST(SystemBadInput, DetectorIntervalBelowOne) {
+  for (const std::string v : {"0", "-2", "abc"})
+    expectConfigRejected("dynamic:\n  detector:\n    interval_frames: " + v + "\n", "interval_frames");
+}
+
+TEST(SystemBadInput, AsyncDetectorIsNoLongerAKey) {
+  // Whether the detector runs in its own thread follows --deterministic.
+  expectConfigRejected("dynamic:\n  async_detector: false\n", "async_detector");
+}
+
 TEST(SystemBadInput, DynamicOrbFeaturesTooFew) {
   for (const std::string v : {"10", "-5"})
     expectConfigRejected("dynamic:\n  orb_features: " + v + "\n", "orb_features", "flow");
