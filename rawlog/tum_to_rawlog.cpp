@@ -12,6 +12,7 @@
 #include <optional>
 #include <stdexcept>
 
+#include "core/interrupt.h"
 #include "core/progress.h"
 #include "rawlog/mrpt_images_base.h"
 #include "rawlog/mrpt_messages.h"
@@ -99,6 +100,7 @@ ConvertSummary convertTumToRawlog(const std::string& tum_dir, const std::string&
     std::optional<ProgressLine> progress;
     if (options.show_progress) progress.emplace("convert", n);
     for (std::size_t i = 0; i < n; ++i) {
+      InterruptGuard::throwIfInterrupted();  // Ctrl-C: `out` removes the temporaries
       const RGBDFrame f = src.load(i);  // decodes and checks both images
       const auto obs = makeObservation(src, i, f, options.sensor_label, out.tmpImagesDir());
       try {

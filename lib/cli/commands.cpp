@@ -8,6 +8,7 @@
 #include <string>
 
 #include "core/errors.h"
+#include "core/interrupt.h"
 
 namespace dynslam::cli {
 
@@ -86,6 +87,9 @@ int dispatch(int argc, char** argv) {
     for (int i = 2; i < argc; ++i) args.push_back(argv[i]);
     try {
       return c.main(static_cast<int>(args.size()), args.data());
+    } catch (const Interrupted& e) {  // its temporaries are gone with the stack
+      std::fprintf(stderr, "%s: %s\n", prog.c_str(), e.what());
+      return e.exitCode();
     } catch (const std::exception& e) {
       std::fprintf(stderr, "%s: error: %s\n", prog.c_str(), e.what());
       return kFailure;

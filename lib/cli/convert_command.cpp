@@ -5,6 +5,7 @@
 #include <string>
 
 #include "cli/commands.h"
+#include "core/interrupt.h"
 #include "rawlog/tum_to_rawlog.h"
 
 namespace dynslam::cli {
@@ -49,6 +50,7 @@ int convertMain(int argc, char** argv) {
   options.max_frames = static_cast<std::size_t>(max_frames.getValue());
   options.sensor_label = label.getValue();
   options.show_progress = !quiet.getValue();
+  InterruptGuard interrupt;  // Ctrl-C: stop, remove the temporaries, exit 130
   const ConvertSummary s = convertTumToRawlog(tum_dir.getValue(), out.getValue(), options);
   if (!quiet.getValue()) {
     std::printf("wrote %s: %zu frames\n  images: %s\n", s.rawlog.c_str(), s.frames,

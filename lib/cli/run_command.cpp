@@ -3,6 +3,7 @@
 #include <cstdio>
 
 #include "cli/commands.h"
+#include "core/interrupt.h"
 #include "system/run_pipeline.h"
 
 namespace dynslam::cli {
@@ -48,11 +49,17 @@ int runMain(int argc, char** argv) {
   o.mode = mode.getValue();
   o.max_frames = max_frames.getValue();
   if (deterministic.getValue()) o.deterministic = 1;
+  InterruptGuard interrupt;  // Ctrl-C: the frames so far are written
   const RunSummary s = runSlam(o);
   std::printf("%zu frames, %zu tracked (%.1f %%), %zu keyframes, %zu map points, %.1f frames/s\n"
               "results in %s\n",
               s.frames, s.tracked, s.frames ? 100.0 * s.tracked / s.frames : 0.0, s.keyframes,
               s.map_points, s.fps, o.out_dir.c_str());
+  if (s.interrupted_by) {
+    std::fprintf(stderr, "dynslam run: %s after %zu frames; the results hold them\n",
+                 Interrupted(s.interrupted_by).what(), s.frames);
+    return Interrupted(s.interrupted_by).exitCode();
+  }
   return kOk;
 }
 

@@ -15,7 +15,9 @@
 
 #include "core/atomic_file.h"
 #include "core/errors.h"
+#include "core/interrupt.h"
 #include "core/json_writer.h"
+#include "core/staged_folder.h"
 #include "core/progress.h"
 #include "dynamic/mask_scoring.h"
 #include "rawlog/sequence_source.h"
@@ -88,7 +90,9 @@ RunSummary runSlam(const RunOptions& opt) {
   std::unique_ptr<FrameSource> source = openSequence(opt.input, opt.camera_config);
   std::size_t n = source->size();
   if (opt.max_frames > 0) n = std::min(n, opt.max_frames);
-  makeDirectories(opt.out_dir);
+  // The run folder is one unit: written beside and moved into place when
+  // complete (an earlier run there is replaced whole).
+  StagedFolder staged(opt.out_dir, {"run_info.yaml", "report.json", "trajectory.txt"});
 
   // A third of the keypoints can land on movers and be dropped: the dynamic
   // modes extract more so that tracking keeps enough static ones.
@@ -119,7 +123,13 @@ RunSummary runSlam(const RunOptions& opt) {
   std::size_t tracked = 0, lost = 0;
   long first_lost = -1;
   const auto t0 = std::chrono::steady_clock::now();
+  int interrupted_by = 0;
   for (std::size_t i = 0; i < n; ++i) {
+    // Ctrl-C / SIGTERM (InterruptGuard): stop reading, keep what is tracked.
+    if ((interrupted_by = InterruptGuard::signalReceived()) != 0) {
+      n = i;
+      break;
+    }
     double load = 0;
     const RGBDFrame frame = frames.next(&load);
     read_ms.push_back(load);
@@ -173,8 +183,9 @@ RunSummary runSlam(const RunOptions& opt) {
   sum.map_points = slam.map().mapPointCount();
   sum.wall_s = wall;
   sum.fps = wall > 0 ? n / wall : 0;
+  sum.interrupted_by = interrupted_by;
 
-  const std::string dir = opt.out_dir;
+  const std::string dir = staged.path();
   const std::string header = "dynslam " DYNSLAM_VERSION " run of " + opt.input;
   writeTumTrajectory(dir + "/trajectory.txt", slam.frameTrajectory(), header);
   writeTumTrajectory(dir + "/keyframes.txt", slam.keyFrameTrajectory(), header + " (keyframes)");
@@ -219,6 +230,7 @@ RunSummary runSlam(const RunOptions& opt) {
       .value("config", config_path)
       .value("mode", opt.mode)
       .value("deterministic", cfg.system.deterministic)
+      .value("interrupted", interrupted_by != 0)
       .value("frames", n)
       .value("tracked_frames", tracked)
       .value("lost_frames", lost)
@@ -325,6 +337,7 @@ RunSummary runSlam(const RunOptions& opt) {
       .endObject();
   w.endObject();
   writeFileAtomically(dir + "/report.json", [&](std::ostream& os) { os << w.str(); });
+  staged.commit();
   return sum;
 }
 

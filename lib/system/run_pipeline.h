@@ -27,6 +27,9 @@ struct RunOptions {
 struct RunSummary {
   std::size_t frames = 0, tracked = 0, keyframes = 0, map_points = 0;
   double wall_s = 0, fps = 0;
+  /// The signal that stopped the run early (0: it ran to the end); the
+  /// outputs then hold the frames processed until then.
+  int interrupted_by = 0;
 };
 
 RunSummary runSlam(const RunOptions& options);

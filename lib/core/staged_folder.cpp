@@ -1,0 +1,96 @@
+#include "core/staged_folder.h"
+
+#include <signal.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <string>
+#include <system_error>
+
+#include "core/errors.h"
+
+namespace dynslam {
+namespace fs = std::filesystem;
+namespace {
+
+const char* const kStagingTag = ".partial-";
+
+// ".NAME.partial-PID" beside the folder NAME.
+fs::path stagingPath(const fs::path& final_dir, long pid) {
+  return final_dir.parent_path() /
+         ("." + final_dir.filename().string() + kStagingTag + std::to_string(pid));
+}
+
+// Staging folders of processes that no longer exist (killed by a second
+// Ctrl-C or SIGKILL before they could clean up).
+void removeStaleStaging(const fs::path& final_dir) {
+  const std::string prefix = "." + final_dir.filename().string() + kStagingTag;
+  std::error_code ec;
+  fs::path parent = final_dir.parent_path();
+  if (parent.empty()) parent = ".";
+  for (const auto& e : fs::directory_iterator(parent, ec)) {
+    const std::string name = e.path().filename().string();
+    if (name.rfind(prefix, 0) != 0) continue;
+    char* end = nullptr;
+    const long pid = std::strtol(name.c_str() + prefix.size(), &end, 10);
+    if (pid <= 0 || *end != '\0') continue;
+    if (::kill(pid_t(pid), 0) == 0 || errno != ESRCH) continue;  // still running
+    std::error_code rm;
+    fs::remove_all(e.path(), rm);
+  }
+}
+
+}  // namespace
+
+StagedFolder::StagedFolder(std::string final_dir, const std::vector<std::string>& markers) {
+  fs::path f(final_dir);
+  if (f.filename().empty()) f = f.parent_path();  // "out/" -> "out"
+  final_ = f.string();
+  std::error_code ec;
+  if (fs::exists(f, ec)) {
+    if (!fs::is_directory(f, ec)) throw InputError(final_, "exists and is not a folder");
+    bool empty = fs::is_empty(f, ec), ours = false;
+    for (const auto& m : markers) ours = ours || fs::exists(f / m, ec);
+    if (!empty && !ours)
+      throw InputError(final_, "folder is not empty and holds no earlier output to replace; "
+                               "choose an empty or new folder");
+  }
+  const fs::path parent = f.parent_path().empty() ? fs::path(".") : f.parent_path();
+  fs::create_directories(parent, ec);
+  if (ec || !fs::is_directory(parent)) throw InputError(parent.string(), "cannot create folder");
+  removeStaleStaging(f);
+  const fs::path s = stagingPath(f, long(::getpid()));
+  fs::remove_all(s, ec);
+  if (!fs::create_directory(s, ec)) throw InputError(s.string(), "cannot create folder: " + ec.message());
+  staging_ = s.string();
+}
+
+StagedFolder::~StagedFolder() {
+  if (committed_) return;
+  std::error_code ec;
+  fs::remove_all(staging_, ec);
+}
+
+void StagedFolder::commit() {
+  const fs::path f(final_), s(staging_);
+  std::error_code ec;
+  // Move an earlier output aside first: the final name then holds either
+  // the old folder or the new one, never a mixture.
+  fs::path old;
+  if (fs::exists(f, ec)) {
+    old = f.parent_path() / ("." + f.filename().string() + ".old-" + std::to_string(::getpid()));
+    fs::remove_all(old, ec);
+    fs::rename(f, old, ec);
+    if (ec) throw InputError(final_, "cannot replace the earlier output: " + ec.message());
+  }
+  fs::rename(s, f, ec);
+  if (ec) {
+    std::error_code back;
+    if (!old.empty()) fs::rename(old, f, back);
+    throw InputError(final_, "cannot move the finished output into place: " + ec.message());
+  }
+  committed_ = true;
+  if (!old.empty()) fs::remove_all(old, ec);
+}
+
+}  // namespace dynslam

@@ -1,0 +1,118 @@
+// StagedFolder: a run folder is replaced whole or not at all.
+#include <gtest/gtest.h>
+
+#include <csignal>
+#include <filesystem>
+
+#include "core/errors.h"
+#include "core/interrupt.h"
+#include "core/staged_folder.h"
+#include "testing/test_support.h"
+
+namespace fs = std::filesystem;
+using dynslam::InputError;
+using dynslam::Interrupted;
+using dynslam::InterruptGuard;
+using dynslam::StagedFolder;
+using dynslam::test::listFiles;
+using dynslam::test::readText;
+using dynslam::test::TempDir;
+using dynslam::test::writeText;
+
+namespace {
+// Entries of a folder, hidden ones included.
+std::vector<std::string> entries(const std::string& dir) {
+  std::vector<std::string> v;
+  for (const auto& e : fs::directory_iterator(dir)) v.push_back(e.path().filename().string());
+  std::sort(v.begin(), v.end());
+  return v;
+}
+}  // namespace
+
+TEST(StagedFolder, CommitReplacesAnEarlierRunWhole) {
+  TempDir d;
+  const std::string out = d / "run";
+  writeText(out + "/report.json", "old");
+  writeText(out + "/dynamic_masks/1.png", "stale");
+  {
+    StagedFolder s(out, {"report.json"});
+    EXPECT_NE(s.path(), out);
+    writeText(s.path() + "/trajectory.txt", "new");
+    // Until the commit the earlier run is untouched.
+    EXPECT_EQ(readText(out + "/report.json"), "old");
+    s.commit();
+  }
+  EXPECT_EQ(listFiles(out), std::vector<std::string>{"trajectory.txt"});
+  EXPECT_FALSE(fs::exists(out + "/dynamic_masks"));
+  EXPECT_EQ(entries(d.path()), std::vector<std::string>{"run"});  // no staging, no old copy
+}
+
+TEST(StagedFolder, WithoutCommitNothingChangesAndNothingIsLeft) {
+  TempDir d;
+  const std::string out = d / "run";
+  writeText(out + "/report.json", "old");
+  {
+    StagedFolder s(out, {"report.json"});
+    writeText(s.path() + "/trajectory.txt", "half");
+  }  // a failure: no commit
+  EXPECT_EQ(listFiles(out), std::vector<std::string>{"report.json"});
+  EXPECT_EQ(readText(out + "/report.json"), "old");
+  EXPECT_EQ(entries(d.path()), std::vector<std::string>{"run"});
+}
+
+TEST(StagedFolder, NewFolderAndEmptyFolderAreFine) {
+  TempDir d;
+  for (const std::string name : {"fresh", "empty"}) {
+    if (name == "empty") fs::create_directories(d / name);
+    StagedFolder s(d / name, {"report.json"});
+    writeText(s.path() + "/a.txt", "x");
+    s.commit();
+    EXPECT_EQ(readText(d / name + "/a.txt"), "x");
+  }
+}
+
+TEST(StagedFolder, RefusesAFolderOfSomethingElseNamingIt) {
+  TempDir d;
+  const std::string out = d / "photos";
+  writeText(out + "/holiday.jpg", "precious");
+  try {
+    StagedFolder s(out, {"report.json", "run_info.yaml"});
+    FAIL() << "accepted a foreign folder";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(out), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(readText(out + "/holiday.jpg"), "precious");
+  writeText(d / "file", "x");
+  EXPECT_THROW(StagedFolder(d / "file", {"report.json"}), InputError);
+}
+
+TEST(StagedFolder, RemovesStagingLeftByAProcessThatDied) {
+  TempDir d;
+  // No process has this id (above the kernel's pid_max limit of 2^22).
+  const std::string stale = d / ".run.partial-4194305";
+  writeText(stale + "/trajectory.txt", "killed");
+  const std::string other = d / ".other.partial-4194305";  // another folder's: kept
+  writeText(other + "/x", "x");
+  StagedFolder s(d / "run", {"report.json"});
+  EXPECT_FALSE(fs::exists(stale));
+  EXPECT_TRUE(fs::exists(other));
+}
+
+TEST(InterruptGuard, FirstSignalIsAFlagNotAnExit) {
+  {
+    InterruptGuard g;
+    EXPECT_EQ(InterruptGuard::signalReceived(), 0);
+    EXPECT_NO_THROW(InterruptGuard::throwIfInterrupted());
+    std::raise(SIGTERM);  // without the guard this would end the test binary
+    EXPECT_EQ(InterruptGuard::signalReceived(), SIGTERM);
+    try {
+      InterruptGuard::throwIfInterrupted();
+      FAIL() << "no Interrupted";
+    } catch (const Interrupted& e) {
+      EXPECT_EQ(e.exitCode(), 143);
+      EXPECT_NE(std::string(e.what()).find("SIGTERM"), std::string::npos);
+    }
+  }
+  InterruptGuard again;  // a new guard starts clean
+  EXPECT_EQ(InterruptGuard::signalReceived(), 0);
+}

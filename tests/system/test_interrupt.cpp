@@ -1,0 +1,157 @@
+// Ctrl-C / SIGTERM on the real binary: `run` writes the frames processed so
+// far (marked interrupted) and exits 128 + signal; a second signal ends it at
+// once and the next run cleans up; `convert` leaves nothing behind.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <csignal>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "testing/test_support.h"
+
+namespace fs = std::filesystem;
+using namespace dynslam::test;
+
+namespace {
+
+// Starts `dynslam ARGS` (output to log), returns its pid.
+pid_t start(const std::vector<std::string>& args, const std::string& log) {
+  std::vector<std::string> argv{dynslamBinary()};
+  argv.insert(argv.end(), args.begin(), args.end());
+  const pid_t pid = fork();
+  if (pid == 0) {
+    std::FILE* f = std::freopen(log.c_str(), "w", stdout);
+    (void)f;
+    dup2(fileno(stdout), fileno(stderr));
+    std::vector<char*> a;
+    for (auto& s : argv) a.push_back(s.data());
+    a.push_back(nullptr);
+    execv(a[0], a.data());
+    _exit(127);
+  }
+  return pid;
+}
+
+int waitFor(pid_t pid) {
+  int status = 0;
+  waitpid(pid, &status, 0);
+  return status;
+}
+
+void sleepS(double s) { std::this_thread::sleep_for(std::chrono::duration<double>(s)); }
+
+int countLines(const std::string& path, char skip = '#') {
+  std::ifstream in(path);
+  int n = 0;
+  for (std::string l; std::getline(in, l);) n += !l.empty() && l[0] != skip;
+  return n;
+}
+
+std::vector<std::string> hiddenEntries(const std::string& dir) {
+  std::vector<std::string> v;
+  for (const auto& e : fs::directory_iterator(dir))
+    if (e.path().filename().string()[0] == '.') v.push_back(e.path().filename().string());
+  return v;
+}
+
+}  // namespace
+
+TEST(RunInterrupted, SigintWritesTheFramesSoFarAndExits130) {
+  TempDir d;
+  const std::string out = d / "run";
+  const pid_t pid = start({"run", rpyDir(), "-o", out, "--mode", "off"}, d / "log");
+  sleepS(4.0);  // vocabulary loaded, some frames tracked; fr1_rpy takes >10 s
+  kill(pid, SIGINT);
+  const int status = waitFor(pid);
+  const std::string log = readText(d / "log");
+  ASSERT_TRUE(WIFEXITED(status)) << log;
+  EXPECT_EQ(WEXITSTATUS(status), 130) << log;
+  EXPECT_NE(log.find("interrupted by SIGINT"), std::string::npos) << log;
+  const std::string report = readText(out + "/report.json");
+  EXPECT_NE(report.find("\"interrupted\": true"), std::string::npos) << report;
+  // Some frames, not all 694 pairs of fr1_rpy, and every one of them written.
+  const int poses = countLines(out + "/trajectory.txt");
+  EXPECT_GT(poses, 10);
+  EXPECT_LT(poses, 690);
+  EXPECT_NE(report.find("\"frames\": " + std::to_string(poses)), std::string::npos)
+      << "every processed frame tracked on fr1_rpy: " << poses;
+  EXPECT_TRUE(fs::exists(out + "/keyframes.txt"));
+  EXPECT_TRUE(hiddenEntries(d.path()).empty());  // no staging folder left
+}
+
+TEST(RunInterrupted, SecondSignalEndsAtOnceAndTheNextRunCleansUp) {
+  TempDir d;
+  const std::string out = d / "run";
+  writeText(out + "/report.json", "earlier run");
+  const pid_t pid = start({"run", rpyDir(), "-o", out, "--mode", "off"}, d / "log");
+  sleepS(3.0);
+  kill(pid, SIGTERM);
+  sleepS(0.05);
+  kill(pid, SIGTERM);
+  const int status = waitFor(pid);
+  ASSERT_TRUE(WIFSIGNALED(status)) << readText(d / "log");
+  EXPECT_EQ(WTERMSIG(status), SIGTERM);
+  // The earlier run is untouched; the killed run's staging folder remains...
+  EXPECT_EQ(readText(out + "/report.json"), "earlier run");
+  ASSERT_EQ(hiddenEntries(d.path()).size(), 1u);
+  // ...until the next run into the same folder removes it.
+  const CommandResult r = runDynslam({"run", rpyDir(), "-o", out, "--mode", "off", "--max-frames", "5"});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(hiddenEntries(d.path()).empty());
+  EXPECT_NE(readText(out + "/report.json"), "earlier run");
+}
+
+TEST(RunOutputFolder, AFolderOfOtherFilesIsRefusedAndKept) {
+  TempDir d;
+  const std::string out = d / "mine";
+  writeText(out + "/notes.txt", "keep me");
+  const CommandResult r = runDynslam({"run", rpyDir(), "-o", out, "--max-frames", "5"});
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find(out), std::string::npos) << r.output;
+  EXPECT_EQ(listFiles(out), std::vector<std::string>{"notes.txt"});
+}
+
+TEST(RunOutputFolder, AFailedRunLeavesTheEarlierRunWhole) {
+  TempDir d;
+  const std::string out = d / "run";
+  ASSERT_EQ(runDynslam({"run", rpyDir(), "-o", out, "--mode", "off", "--max-frames", "20"}).exit_code, 0);
+  const std::string before = readText(out + "/trajectory.txt");
+  // A sequence whose 10th depth image is unreadable fails mid-run.
+  const std::string seq = d / "rgbd_dataset_freiburg1_broken";
+  fs::create_directories(seq);
+  for (const char* f : {"rgb.txt", "depth.txt", "groundtruth.txt"})
+    fs::copy_file(rpyDir() + "/" + f, seq + "/" + f);
+  fs::create_directory_symlink(rpyDir() + "/rgb", seq + "/rgb");
+  fs::create_directories(seq + "/depth");
+  std::vector<std::string> names;
+  for (const auto& e : fs::directory_iterator(rpyDir() + "/depth")) names.push_back(e.path().filename());
+  std::sort(names.begin(), names.end());
+  for (std::size_t i = 0; i < names.size(); ++i)
+    if (i == 10) writeText(seq + "/depth/" + names[i], "not a png");
+    else fs::create_symlink(rpyDir() + "/depth/" + names[i], seq + "/depth/" + names[i]);
+  const CommandResult r = runDynslam({"run", seq, "-o", out, "--mode", "off", "--max-frames", "40"});
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_EQ(readText(out + "/trajectory.txt"), before);
+  EXPECT_TRUE(hiddenEntries(d.path()).empty());
+}
+
+TEST(ConvertInterrupted, SigintRemovesItsTemporaries) {
+  TempDir d;
+  const pid_t pid = start({"convert", rpyDir(), d / "rpy.rawlog"}, d / "log");
+  sleepS(1.5);
+  kill(pid, SIGINT);
+  const int status = waitFor(pid);
+  const std::string log = readText(d / "log");
+  ASSERT_TRUE(WIFEXITED(status)) << log;
+  EXPECT_EQ(WEXITSTATUS(status), 130) << log;
+  std::vector<std::string> left;
+  for (const auto& e : fs::directory_iterator(d.path()))
+    if (e.path().filename() != "log") left.push_back(e.path().filename());
+  EXPECT_TRUE(left.empty()) << left.size() << " entries left, first " << (left.empty() ? "" : left[0]);
+}
