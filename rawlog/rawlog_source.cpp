@@ -14,9 +14,9 @@
 
 #include "core/atomic_file.h"
 #include "core/errors.h"
+#include "core/mrpt_messages.h"
 #include "rawlog/image_checks.h"
 #include "rawlog/mrpt_images_base.h"
-#include "rawlog/mrpt_messages.h"
 #include "rawlog/rawlog_layout.h"
 
 namespace dynslam {

@@ -11,6 +11,7 @@
 
 #include "core/atomic_file.h"
 #include "core/errors.h"
+#include "mapexport/ply_check.h"
 
 namespace dynslam {
 
@@ -43,6 +44,7 @@ void writePlyBinary(const std::string& path, const ColoredCloud& cloud) {
 
 ColoredCloud readPly(const std::string& path) {
   if (!fileExists(path)) throw InputError(path, "file not found");
+  const PlyLayout layout = checkPlyFile(path);  // PCL trusts the header blindly
   pcl::PointCloud<pcl::PointXYZRGB> pc;
   int rc = -1;
   // PCL warns about every PLY property it does not map (e.g. the 'camera'
@@ -60,6 +62,9 @@ ColoredCloud readPly(const std::string& path) {
   ColoredCloud cloud;
   cloud.reserve(pc.size());
   for (const auto& q : pc) cloud.push_back(ColoredPoint{q.x, q.y, q.z, q.r, q.g, q.b});
+  if (cloud.size() != layout.vertices)
+    throw InputError(path, "read " + std::to_string(cloud.size()) +
+                               " points, the header declares " + std::to_string(layout.vertices));
   return cloud;
 }
 
