@@ -39,6 +39,13 @@ void writePlyBinary(const std::string& path, const ColoredCloud& cloud) {
     throw std::runtime_error(path + ": cannot write PLY (" + e.what() + ")");
   }
   if (rc < 0) throw std::runtime_error(path + ": cannot write PLY");
+  // PCL reports success on a full disk: read the header back and check the
+  // size before the file gets its final name.
+  try {
+    if (checkPlyFile(out.tmp()).vertices != cloud.size()) throw std::runtime_error("count");
+  } catch (const std::exception&) {
+    throw std::runtime_error(path + ": write failed, file incomplete (disk full?)");
+  }
   out.commit();
 }
 
