@@ -4,15 +4,19 @@
 
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
+#include <string>
 
 namespace dynslam {
 
 StderrCapture::StderrCapture() {
   std::fflush(stderr);
-  char name[] = "/tmp/dynslam_stderr_XXXXXX";
-  capture_fd_ = ::mkstemp(name);
+  std::error_code ec;
+  const std::filesystem::path dir = std::filesystem::temp_directory_path(ec);
+  std::string name = (ec ? std::filesystem::path("/tmp") : dir).string() + "/.dynslam_stderr_XXXXXX";
+  capture_fd_ = ::mkstemp(name.data());
   if (capture_fd_ < 0) return;
-  ::unlink(name);  // no file left behind, whatever happens
+  ::unlink(name.c_str());  // no file left behind, whatever happens
   saved_fd_ = ::dup(2);
   if (saved_fd_ < 0 || ::dup2(capture_fd_, 2) < 0) {
     if (saved_fd_ >= 0) ::close(saved_fd_);
