@@ -10,7 +10,19 @@
 
 namespace dynslam {
 
-/// cv::imread as 8-bit BGR; throws InputError(path) if missing or undecodable.
+/// Throws InputError(path) if a JPEG or PNG file stops before its end marker
+/// (JPEG EOI, PNG IEND chunk): cv::imread decodes a truncated JPEG as a
+/// grey-padded frame without a word. Other formats are not checked.
+void checkImageFileComplete(const std::string& path);
+
+/// Throws InputError(path) if an external depth matrix of a rawlog (MRPT's
+/// gzip-compressed .bin) is cut: MRPT reads a truncated one without a word.
+/// The gzip trailer's uncompressed size must be `matrix_bytes` (rows x cols x
+/// 2) plus a small header. Files that are not gzip are not checked.
+void checkDepthMatrixFile(const std::string& path, std::size_t matrix_bytes);
+
+/// cv::imread as 8-bit BGR; throws InputError(path) if missing, truncated or
+/// undecodable.
 cv::Mat readRgbImage(const std::string& path);
 
 /// cv::imread unchanged; throws InputError(path) if missing, undecodable or

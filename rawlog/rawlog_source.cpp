@@ -14,9 +14,9 @@
 
 #include "core/atomic_file.h"
 #include "core/errors.h"
+#include "core/mrpt_messages.h"
 #include "rawlog/image_checks.h"
 #include "rawlog/mrpt_images_base.h"
-#include "rawlog/mrpt_messages.h"
 #include "rawlog/rawlog_layout.h"
 
 namespace dynslam {
@@ -171,6 +171,7 @@ RGBDFrame RawlogSource::load(std::size_t i) const {
   // RGB: decoding an external file is MRPT's job (lazy CImage load).
   if (s.intensityImage.isExternallyStored() && !fileExists(f.rgb_source))
     throw InputError(f.rgb_source, "external RGB image of the rawlog not found");
+  if (s.intensityImage.isExternallyStored()) checkImageFileComplete(f.rgb_source);
   try {
     f.rgb = toBgr8(s.intensityImage.asCvMatRef(), f.rgb_source).clone();
   } catch (const InputError&) {
@@ -189,6 +190,14 @@ RGBDFrame RawlogSource::load(std::size_t i) const {
     throw InputError(f.depth_source, "cannot read depth matrix: " + oneLineMessage(e.what()));
   }
   const auto& r = s.rangeImage;
+  if (s.rangeImage_isExternallyStored()) {
+    try {  // the matrix's own size, from the file's header
+      checkDepthMatrixFile(f.depth_source, std::size_t(r.rows()) * std::size_t(r.cols()) * 2);
+    } catch (...) {
+      s.unload();
+      throw;
+    }
+  }
   f.depth.create(static_cast<int>(r.rows()), static_cast<int>(r.cols()), CV_16UC1);
   for (int y = 0; y < f.depth.rows; ++y) {
     auto* row = f.depth.ptr<uint16_t>(y);

@@ -13,9 +13,9 @@
 #include <stdexcept>
 
 #include "core/interrupt.h"
+#include "core/mrpt_messages.h"
 #include "core/progress.h"
 #include "rawlog/mrpt_images_base.h"
-#include "rawlog/mrpt_messages.h"
 #include "rawlog/staged_rawlog_output.h"
 #include "rawlog/tum_folder_source.h"
 

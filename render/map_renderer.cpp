@@ -28,7 +28,7 @@ mrpt::poses::CPose3D xForwardToOptical() {
 
 }  // namespace
 
-MapRenderer::MapRenderer(RenderOptions options) : options_(options) {
+void MapRenderer::checkOptions(const RenderOptions& options) {
   if (options.width <= 0 || options.height <= 0 || options.width > 16384 ||
       options.height > 16384) {
     throw std::invalid_argument("render: image size must be 1..16384");
@@ -37,6 +37,10 @@ MapRenderer::MapRenderer(RenderOptions options) : options_(options) {
     throw std::invalid_argument("render: vertical FOV must be in (1, 170) degrees");
   }
   if (!(options.point_size > 0)) throw std::invalid_argument("render: point size must be > 0");
+}
+
+MapRenderer::MapRenderer(RenderOptions options) : options_(options) {
+  checkOptions(options);
   context_ = std::make_unique<OffscreenContext>(options.width, options.height);
   mrpt::opengl::CFBORender::Parameters p(options.width, options.height);
   p.create_EGL_context = false;  // render into the OSMesa context made current above

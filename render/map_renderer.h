@@ -48,6 +48,9 @@ class MapRenderer {
   /// std::invalid_argument on bad options.
   explicit MapRenderer(RenderOptions options = {});
   ~MapRenderer();
+  /// Throws std::invalid_argument on bad options (what the constructor
+  /// checks first), so a caller can reject them before loading a map.
+  static void checkOptions(const RenderOptions& options);
   MapRenderer(const MapRenderer&) = delete;
   MapRenderer& operator=(const MapRenderer&) = delete;
 

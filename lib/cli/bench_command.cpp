@@ -15,6 +15,7 @@
 #include "bench/bench_report.h"
 #include "bench/bench_runner.h"
 #include "cli/commands.h"
+#include "core/errors.h"
 #include "core/atomic_file.h"
 
 namespace dynslam::cli {
@@ -50,7 +51,8 @@ int benchMain(int argc, char** argv) {
       "the product; add off for the improvement table)",
       false, "detect+flow", "LIST", cmd);
   TCLAP::ValueArg<int> runs_arg("", "runs", "runs per sequence and mode", false, 3, "N", cmd);
-  TCLAP::ValueArg<std::size_t> max_frames_arg(
+  // Signed, so that -1 is seen (as size_t it would wrap to "all frames").
+  TCLAP::ValueArg<long long> max_frames_arg(
       "", "max-frames", "process only the first N frames of each sequence", false, 0, "N", cmd);
   TCLAP::ValueArg<std::string> config_arg(
       "", "config", "SLAM parameters passed to every run (default: configs/dynslam.yaml)", false,
@@ -63,11 +65,15 @@ int benchMain(int argc, char** argv) {
   int exit_code = kOk;
   if (!parseArguments(cmd, argc, argv, exit_code)) return exit_code;
 
+  if (max_frames_arg.isSet() && max_frames_arg.getValue() < 1)
+    throw UsageError("--max-frames must be at least 1, got " +
+                     std::to_string(max_frames_arg.getValue()));
+
   BenchOptions o;
   o.sequences = seq_arg.getValue();
   o.modes = splitList(modes_arg.getValue());
   o.runs = runs_arg.getValue();
-  o.max_frames = max_frames_arg.getValue();
+  o.max_frames = static_cast<std::size_t>(max_frames_arg.getValue());
   o.config = config_arg.getValue();
   o.out_dir = out_arg.getValue();
   o.dynslam_binary = std::filesystem::read_symlink("/proc/self/exe").string();

@@ -9,6 +9,7 @@
 
 #include "core/errors.h"
 #include "core/interrupt.h"
+#include "core/mrpt_messages.h"
 
 namespace dynslam::cli {
 
@@ -56,6 +57,15 @@ bool parseArguments(TCLAP::CmdLine& cmd, int argc, char** argv, int& exit_code) 
   return false;
 }
 
+/// One line for the user: our InputErrors lead with the file name (kept);
+/// other library exceptions (MRPT's carry a backtrace) are reduced to the
+/// line that says what went wrong.
+static std::string userMessage(const std::exception& e) {
+  const std::string what = e.what();
+  if (dynamic_cast<const InputError*>(&e)) return what.substr(0, what.find('\n'));
+  return oneLineMessage(what);
+}
+
 static void printUsage(std::FILE* out) {
   std::fprintf(out,
                "dynslam: RGB-D SLAM that keeps working when people walk through the scene\n\n"
@@ -90,8 +100,12 @@ int dispatch(int argc, char** argv) {
     } catch (const Interrupted& e) {  // its temporaries are gone with the stack
       std::fprintf(stderr, "%s: %s\n", prog.c_str(), e.what());
       return e.exitCode();
+    } catch (const UsageError& e) {
+      std::fprintf(stderr, "%s: error: %s\nrun '%s --help' for usage\n", prog.c_str(), e.what(),
+                   prog.c_str());
+      return kUsage;
     } catch (const std::exception& e) {
-      std::fprintf(stderr, "%s: error: %s\n", prog.c_str(), e.what());
+      std::fprintf(stderr, "%s: error: %s\n", prog.c_str(), userMessage(e).c_str());
       return kFailure;
     }
   }

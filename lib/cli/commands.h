@@ -28,7 +28,8 @@ const std::vector<Subcommand>& subcommands();
 bool parseArguments(TCLAP::CmdLine& cmd, int argc, char** argv, int& exit_code);
 
 /// Runs `dynslam ARGS`: picks the subcommand, turns exceptions into a one-line
-/// "dynslam NAME: error: ..." on stderr and a non-zero exit code.
+/// "dynslam NAME: error: ..." on stderr and exit code 2 (UsageError: a bad
+/// command-line value) or 1 (anything else: bad files, runtime failures).
 int dispatch(int argc, char** argv);
 
 // Subcommand entry points (one file each in this folder).

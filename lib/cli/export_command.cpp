@@ -9,6 +9,7 @@
 
 #include "cli/commands.h"
 #include "core/atomic_file.h"
+#include "core/errors.h"
 #include "mapexport/dense_map_config.h"
 #include "mapexport/map_data.h"
 #include "mapexport/run_directory.h"
@@ -78,7 +79,28 @@ int exportMain(int argc, char** argv) {
   int exit_code = kOk;
   if (!parseArguments(cmd, argc, argv, exit_code)) return exit_code;
 
-  mapFormatFromPath(out_arg.getValue());  // bad extension: fail before any work
+  try {
+    mapFormatFromPath(out_arg.getValue());  // bad extension: fail before any work
+  } catch (const std::exception& e) {
+    throw UsageError(std::string("-o: ") + e.what());
+  }
+  // Command-line values override the config's; checked on the defaults
+  // first, so a bad value is a usage error before any file is read.
+  const auto apply_overrides = [&](DenseMapOptions& o) {
+    if (voxel_arg.isSet()) o.voxel_leaf = voxel_arg.getValue();
+    if (stride_arg.isSet()) o.projection.pixel_stride = stride_arg.getValue();
+    if (margin_arg.isSet()) o.projection.mask_margin_px = margin_arg.getValue();
+    if (no_outliers_arg.getValue()) o.remove_outliers = false;
+    if (no_carving_arg.getValue()) o.carving.enabled = false;
+  };
+  try {
+    DenseMapOptions defaults;
+    apply_overrides(defaults);
+    validateDenseMapOptions(defaults, "command line");
+  } catch (const InputError& e) {
+    throw UsageError(e.what());
+  }
+
   const RunDirectory run = readRunDirectory(run_arg.getValue());
   DenseMapOptions options;
   if (config_arg.isSet()) {
@@ -87,11 +109,7 @@ int exportMain(int argc, char** argv) {
     std::fprintf(stderr, "map_export parameters from the run's config %s\n", run.config.c_str());
     options = loadDenseMapOptions(run.config, options);
   }
-  if (voxel_arg.isSet()) options.voxel_leaf = voxel_arg.getValue();
-  if (stride_arg.isSet()) options.projection.pixel_stride = stride_arg.getValue();
-  if (margin_arg.isSet()) options.projection.mask_margin_px = margin_arg.getValue();
-  if (no_outliers_arg.getValue()) options.remove_outliers = false;
-  if (no_carving_arg.getValue()) options.carving.enabled = false;
+  apply_overrides(options);
   validateDenseMapOptions(options, "command line");
 
   const std::string camera = camera_arg.isSet() ? camera_arg.getValue() : run.camera_config;

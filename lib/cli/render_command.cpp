@@ -28,7 +28,7 @@ constexpr const char* kDescription =
     "(RANSAC; the plane must face the cameras and lie within 60 deg of the keyframes' mean "
     "image-up axis), else that axis, or given with --up. Keyframes come from a .glb map or from --trajectory.";
 
-/// "a,b,c" -> three numbers; throws std::invalid_argument naming `what`.
+/// "a,b,c" -> three numbers; throws UsageError naming `what`.
 std::array<double, 3> parseTriple(const std::string& text, const std::string& what) {
   std::string s = text;
   for (char& c : s)
@@ -37,7 +37,7 @@ std::array<double, 3> parseTriple(const std::string& text, const std::string& wh
   std::array<double, 3> v{};
   std::string rest;
   if (!(in >> v[0] >> v[1] >> v[2]) || (in >> rest)) {
-    throw std::invalid_argument(what + ": expected three comma-separated numbers, got '" +
+    throw UsageError(what + ": expected three comma-separated numbers, got '" +
                                 text + "'");
   }
   return v;
@@ -91,11 +91,17 @@ int renderMain(int argc, char** argv) {
   o.draw_trajectory = !no_traj_arg.getValue();
   const auto bg = parseTriple(bg_arg.getValue(), "--background");
   for (int k = 0; k < 3; ++k) {
-    if (bg[k] < 0 || bg[k] > 255) throw std::invalid_argument("--background: values 0..255");
+    if (bg[k] < 0 || bg[k] > 255) throw UsageError("--background: values 0..255");
     o.background[k] = static_cast<std::uint8_t>(bg[k]);
   }
   if (up_arg.isSet()) o.up = parseTriple(up_arg.getValue(), "--up");
-  const ViewSpec view = ViewSpec::parse(view_arg.getValue());
+  ViewSpec view;
+  try {  // bad values on the command line: usage errors, before any work
+    view = ViewSpec::parse(view_arg.getValue());
+    MapRenderer::checkOptions(o);
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(e.what());
+  }
 
   MapData map = readMapFile(map_arg.getValue());
   if (traj_arg.isSet()) map.keyframes = readTumTrajectory(traj_arg.getValue());

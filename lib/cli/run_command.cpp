@@ -1,8 +1,10 @@
 #include <mrpt/3rdparty/tclap/CmdLine.h>
 
 #include <cstdio>
+#include <string>
 
 #include "cli/commands.h"
+#include "core/errors.h"
 #include "core/interrupt.h"
 #include "system/run_pipeline.h"
 
@@ -32,7 +34,8 @@ int runMain(int argc, char** argv) {
       "dynamic-feature rejection: detect+flow (YOLO boxes and the LK motion check, the "
       "default), detect (boxes only), flow (motion check only) or off (plain SLAM)",
       false, "detect+flow", &mode_values, cmd);
-  TCLAP::ValueArg<std::size_t> max_frames("", "max-frames", "process only the first N frames",
+  // Signed, so that -1 is seen (as size_t it would wrap to "all frames").
+  TCLAP::ValueArg<long long> max_frames("", "max-frames", "process only the first N frames",
                                           false, 0, "N", cmd);
   TCLAP::SwitchArg deterministic("", "deterministic",
                                  "local mapping in the tracking thread: identical output on "
@@ -40,6 +43,9 @@ int runMain(int argc, char** argv) {
                                  cmd);
   int exit_code = kOk;
   if (!parseArguments(cmd, argc, argv, exit_code)) return exit_code;
+  if (max_frames.isSet() && max_frames.getValue() < 1)
+    throw UsageError("--max-frames must be at least 1, got " +
+                     std::to_string(max_frames.getValue()));
 
   RunOptions o;
   o.input = input.getValue();
@@ -47,7 +53,7 @@ int runMain(int argc, char** argv) {
   o.config_path = config.getValue();
   o.camera_config = camera.getValue();
   o.mode = mode.getValue();
-  o.max_frames = max_frames.getValue();
+  o.max_frames = static_cast<std::size_t>(max_frames.getValue());
   if (deterministic.getValue()) o.deterministic = 1;
   InterruptGuard interrupt;  // Ctrl-C: the frames so far are written
   const RunSummary s = runSlam(o);

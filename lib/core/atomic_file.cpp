@@ -3,6 +3,8 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <cerrno>
+#include <cstring>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -49,8 +51,12 @@ void writeFileAtomically(const std::string& path,
     std::ofstream f(out.tmp(), binary ? std::ios::binary : std::ios::out);
     if (!f) throw std::runtime_error(path + ": cannot open for writing");
     writer(f);
-    f.flush();
-    if (!f) throw std::runtime_error(path + ": write failed");
+    errno = 0;
+    f.close();  // flushes: a full disk shows here, not in the writes
+    if (!f) {
+      const std::string why = errno ? std::strerror(errno) : "disk full?";
+      throw std::runtime_error(path + ": write failed (" + why + ")");
+    }
   }
   out.commit();
 }

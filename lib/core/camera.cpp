@@ -8,6 +8,7 @@
 #include <regex>
 
 #include "core/atomic_file.h"
+#include "core/config_reader.h"
 #include "core/errors.h"
 
 namespace dynslam {
@@ -45,36 +46,28 @@ void PinholeCamera::validate(const std::string& source) const {
 
 PinholeCamera loadCameraYaml(const std::string& path) {
   if (!fileExists(path)) throw InputError(path, "camera config not found");
-  mrpt::containers::yaml y;
-  try {
-    y = mrpt::containers::yaml::FromFile(path);
-  } catch (const std::exception& e) {
-    throw InputError(path, std::string("not valid YAML: ") + e.what());
-  }
-  if (!y.isMap() || !y.has("camera"))
-    throw InputError(path, "missing 'camera:' section");
-  const auto& c = y["camera"];
-  if (!c.isMap()) throw InputError(path, "'camera:' must be a map of key: value");
-  auto num = [&](const char* key) -> double {
+  const mrpt::containers::yaml y = loadYamlFile(path);
+  if (!y.isMap() || !y.has("camera")) throw InputError(path, "missing 'camera:' section");
+  if (!y["camera"].isMap()) throw InputError(path, "'camera:' must be a map of key: value");
+  ConfigSection c(y["camera"], path, "camera");
+  for (const char* key : {"width", "height", "fx", "fy", "cx", "cy", "depth_scale"})
     if (!c.has(key)) throw InputError(path, std::string("missing camera.") + key);
-    try {
-      return c[key].as<double>();
-    } catch (const std::exception&) {
-      throw InputError(path, std::string("camera.") + key + " is not a number");
-    }
-  };
   PinholeCamera cam;
-  cam.name = c.has("name") ? c["name"].as<std::string>()
-                           : std::filesystem::path(path).stem().string();
-  cam.width = static_cast<int>(num("width"));
-  cam.height = static_cast<int>(num("height"));
-  cam.fx = num("fx");
-  cam.fy = num("fy");
-  cam.cx = num("cx");
-  cam.cy = num("cy");
-  const char* dk[5] = {"k1", "k2", "p1", "p2", "k3"};
-  for (int i = 0; i < 5; ++i) cam.dist[i] = c.has(dk[i]) ? num(dk[i]) : 0.0;
-  cam.depth_scale = num("depth_scale");
+  cam.name = std::filesystem::path(path).stem().string();
+  c.read("name", cam.name)
+      .read("width", cam.width)
+      .read("height", cam.height)
+      .read("fx", cam.fx)
+      .read("fy", cam.fy)
+      .read("cx", cam.cx)
+      .read("cy", cam.cy)
+      .read("k1", cam.dist[0])
+      .read("k2", cam.dist[1])
+      .read("p1", cam.dist[2])
+      .read("p2", cam.dist[3])
+      .read("k3", cam.dist[4])
+      .read("depth_scale", cam.depth_scale);
+  c.rejectUnknownKeys();  // a typo ("k4", "fx_") must not fall back to 0
   cam.validate(path);
   return cam;
 }

@@ -1,14 +1,41 @@
 #include "core/config_reader.h"
 
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+
 #include "core/atomic_file.h"
+#include "core/mrpt_messages.h"
+#include "core/stderr_capture.h"
+#include "core/yaml_keys.h"
 
 namespace dynslam {
+
+double parseConfigNumber(const std::string& text) {
+  const auto b = text.find_first_not_of(" \t");
+  const auto e = text.find_last_not_of(" \t");
+  if (b == std::string::npos) throw std::invalid_argument("empty");
+  const std::string t = text.substr(b, e - b + 1);
+  char* end = nullptr;
+  errno = 0;
+  const double v = std::strtod(t.c_str(), &end);
+  if (end != t.c_str() + t.size() || errno == ERANGE || !std::isfinite(v))
+    throw std::invalid_argument("not a number: " + t);
+  return v;
+}
+
+std::string scalarText(const mrpt::containers::yaml& node) {
+  if (!node.isScalar()) throw std::invalid_argument("not a scalar");
+  return node.as<std::string>();
+}
 
 ConfigSection::ConfigSection(const mrpt::containers::yaml& node, std::string file,
                              std::string section)
     : node_(node), file_(std::move(file)), section_(std::move(section)) {
   if (!node_.isNullNode() && !node_.empty() && !node_.isMap())
-    throw InputError(file_, section_ + ": expected a map of key: value");
+    throw InputError(file_, (section_.empty() ? "the file" : section_) +
+                                ": expected a map of key: value");
 }
 
 bool ConfigSection::has(const std::string& key) const {
@@ -45,13 +72,60 @@ void ConfigSection::rejectUnknownKeys() const {
   }
 }
 
+namespace {
+struct YamlDiagnostic {
+  std::size_t line = 0;
+  std::string message;  ///< empty: no error reported
+};
+
+/// The first "<source>:LINE:COL: error: MESSAGE" line libfyaml printed.
+YamlDiagnostic parseYamlDiagnostic(const std::string& text) {
+  YamlDiagnostic d;
+  const auto at = text.find(": error: ");
+  if (at == std::string::npos) return d;
+  const auto eol = text.find('\n', at);
+  d.message = text.substr(at + 9, eol == std::string::npos ? std::string::npos : eol - at - 9);
+  // Walk back over ":LINE:COL" before ": error:".
+  const auto begin = text.rfind('\n', at);
+  const std::string head = text.substr(begin == std::string::npos ? 0 : begin + 1,
+                                       at - (begin == std::string::npos ? 0 : begin + 1));
+  const auto c2 = head.rfind(':');
+  const auto c1 = c2 == std::string::npos || c2 == 0 ? std::string::npos : head.rfind(':', c2 - 1);
+  if (c1 != std::string::npos) {
+    const std::string line = head.substr(c1 + 1, c2 - c1 - 1);
+    if (!line.empty() && line.find_first_not_of("0123456789") == std::string::npos)
+      d.line = std::stoul(line);
+  }
+  return d;
+}
+}  // namespace
+
 mrpt::containers::yaml loadYamlFile(const std::string& path) {
   if (!fileExists(path)) throw InputError(path, "config file not found");
-  try {
-    return mrpt::containers::yaml::FromFile(path);
-  } catch (const std::exception& e) {
-    throw InputError(path, std::string("not valid YAML: ") + e.what());
+  {
+    std::ifstream text(path);
+    const DuplicateKey d = findDuplicateKey(text);
+    if (d.line)
+      throw InputError(path, d.line, "duplicate key '" + d.key + "' (first on line " +
+                                         std::to_string(d.first_line) + ")");
   }
+  mrpt::containers::yaml y;
+  std::string diagnostics;
+  try {
+    StderrCapture capture;  // the parser prints its errors instead of throwing
+    y = mrpt::containers::yaml::FromFile(path);
+    diagnostics = capture.finish();
+  } catch (const std::exception& e) {
+    throw InputError(path, "not valid YAML: " + oneLineMessage(e.what()));
+  }
+  if (const YamlDiagnostic d = parseYamlDiagnostic(diagnostics); !d.message.empty()) {
+    if (d.line) throw InputError(path, d.line, "not valid YAML: " + d.message);
+    throw InputError(path, "not valid YAML: " + d.message);
+  }
+  if (!y.isNullNode() && !y.isMap() && !(y.isScalar() && scalarText(y).empty()))
+    throw InputError(path, "expected a YAML mapping of sections (key: value), found " +
+                               std::string(y.isSequence() ? "a list" : "a single value"));
+  return y;
 }
 
 }  // namespace dynslam

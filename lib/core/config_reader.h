@@ -5,6 +5,7 @@
 // to a default.
 #include <mrpt/containers/yaml.h>
 
+#include <limits>
 #include <set>
 #include <stdexcept>
 #include <type_traits>
@@ -14,6 +15,14 @@
 #include "core/errors.h"
 
 namespace dynslam {
+
+/// A whole config value as a number: throws std::invalid_argument on trailing
+/// junk ("1000x", "40.0abc"), an empty text or a non-finite value (YAML
+/// readers convert only the leading number).
+double parseConfigNumber(const std::string& text);
+
+/// The text of a scalar node (numbers as written in the file).
+std::string scalarText(const mrpt::containers::yaml& node);
 
 class ConfigSection {
  public:
@@ -31,10 +40,15 @@ class ConfigSection {
         if (v == "true" || v == "false") value = (v == "true");
         else throw std::invalid_argument(v);
       } else if constexpr (std::is_integral_v<T>) {
-        // yaml::as<int> would silently truncate 2.5 to 2.
-        const double v = node_[key].as<double>();
-        if (v != static_cast<double>(static_cast<T>(v))) throw std::invalid_argument("not integral");
+        // yaml::as<int> would silently truncate 2.5 to 2 (and 1e12 to garbage).
+        const double v = parseConfigNumber(scalarText(node_[key]));
+        if (v < static_cast<double>(std::numeric_limits<T>::lowest()) ||
+            v > static_cast<double>(std::numeric_limits<T>::max()) ||
+            v != static_cast<double>(static_cast<T>(v)))
+          throw std::invalid_argument("not integral");
         value = static_cast<T>(v);
+      } else if constexpr (std::is_floating_point_v<T>) {
+        value = static_cast<T>(parseConfigNumber(scalarText(node_[key])));
       } else {
         value = node_[key].as<T>();
       }
@@ -59,7 +73,9 @@ class ConfigSection {
   std::set<std::string> known_;
 };
 
-/// Loads a YAML file; throws InputError(path) if missing or not valid YAML.
+/// Loads a YAML file; throws a one-line InputError(path[:line]) if it is
+/// missing, not valid YAML, repeats a key within a mapping, or holds
+/// something other than a mapping (an empty file is an empty mapping).
 mrpt::containers::yaml loadYamlFile(const std::string& path);
 
 }  // namespace dynslam

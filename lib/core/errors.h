@@ -26,4 +26,12 @@ class InputError : public std::runtime_error {
   std::size_t line_ = 0;
 };
 
+/// A bad command-line value found after the arguments were parsed (a range,
+/// a malformed list, an unknown extension): the dispatcher exits with the
+/// usage code 2, as for TCLAP's own errors, instead of 1 (bad files, failures).
+class UsageError : public std::invalid_argument {
+ public:
+  using std::invalid_argument::invalid_argument;
+};
+
 }  // namespace dynslam

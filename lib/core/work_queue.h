@@ -12,6 +12,9 @@
 //   - stop() lets the worker handle what is queued, then joins it.
 // Without a thread (threaded = false: deterministic runs) nothing runs by
 // itself; the owner drains the queue with tryPop().
+// An exception from the handler stops the work (queued items are dropped:
+// the state they would build on is suspect) and is rethrown in the owner's
+// thread by the next push() or flush(), or by rethrowIfFailed().
 #include <condition_variable>
 #include <cstddef>
 #include <deque>
@@ -19,6 +22,8 @@
 #include <mutex>
 #include <thread>
 #include <utility>
+
+#include "core/worker_error.h"
 
 namespace dynslam {
 
@@ -39,6 +44,7 @@ class WorkQueue {
   }
 
   void push(T item) {
+    error_.rethrowIfFailed();
     {
       std::lock_guard<std::mutex> lk(mutex_);
       queue_.push_back(std::move(item));
@@ -71,7 +77,12 @@ class WorkQueue {
     if (!threaded_) return;
     std::unique_lock<std::mutex> lk(mutex_);
     cv_.wait(lk, [&] { return queue_.empty() && !busy_; });
+    lk.unlock();
+    error_.rethrowIfFailed();
   }
+
+  /// Rethrows the handler's exception, if one was thrown (owner's thread).
+  void rethrowIfFailed() const { error_.rethrowIfFailed(); }
 
   void pause() {
     if (!threaded_) return;
@@ -111,10 +122,11 @@ class WorkQueue {
         queue_.pop_front();
         busy_ = true;
       }
-      handler_(std::move(item));
+      const bool ok = error_.run([&] { handler_(std::move(item)); });
       {
         std::lock_guard<std::mutex> lk(mutex_);
         busy_ = false;
+        if (!ok) queue_.clear();
       }
       cv_.notify_all();
     }
@@ -122,6 +134,7 @@ class WorkQueue {
 
   std::function<void(T)> handler_;
   bool threaded_;
+  WorkerError error_;
   mutable std::mutex mutex_;
   std::condition_variable cv_;
   std::deque<T> queue_;

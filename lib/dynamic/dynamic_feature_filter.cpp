@@ -82,7 +82,12 @@ void DynamicFeatureFilter::detectorLoop() {
       frame = pending_frame_;
       busy_ = true;
     }
-    std::vector<Detection> boxes = detector_->detect(img);
+    std::vector<Detection> boxes;
+    if (!detector_error_.run([&] { boxes = detector_->detect(img); })) {
+      std::lock_guard<std::mutex> lk(m_);  // the owner rethrows at its next call
+      busy_ = false;
+      return;
+    }
     std::lock_guard<std::mutex> lk(m_);
     result_ = std::move(boxes);
     result_frame_ = frame;
@@ -94,6 +99,7 @@ void DynamicFeatureFilter::detectorLoop() {
 
 void DynamicFeatureFilter::submitToDetector(const cv::Mat& bgr, long frame) {
   if (!detector_ || !p_.async_detector) return;
+  detector_error_.rethrowIfFailed();
   if (frame - last_submitted_ < std::max(1, p_.detector_interval)) return;
   last_submitted_ = frame;
   std::lock_guard<std::mutex> lk(m_);
@@ -111,6 +117,7 @@ void DynamicFeatureFilter::collectDetections(const cv::Mat& bgr, long frame) {
     ++runs_;
     return;
   }
+  detector_error_.rethrowIfFailed();
   std::vector<Detection> dets;
   long det_frame = -1;
   {

@@ -45,6 +45,7 @@
 
 #include "core/camera.h"
 #include "core/observation_preprocessor.h"
+#include "core/worker_error.h"
 #include "dynamic/box_carrier.h"
 #include "dynamic/depth_masks.h"
 #include "dynamic/motion_check.h"
@@ -229,6 +230,7 @@ class DynamicFeatureFilter : public ObservationPreprocessor {
   bool result_new_ = false;
   std::size_t runs_ = 0;
   bool stop_ = false;
+  WorkerError detector_error_;  ///< a failed detect(), rethrown by the next frame
   std::thread thread_;
 };
 

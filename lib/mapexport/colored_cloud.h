@@ -4,6 +4,7 @@
 // the tests can hold maps without including PCL headers (slow to compile);
 // PCL and assimp only appear inside the .cpp files that filter or write.
 #include <cstdint>
+#include <string>
 #include <vector>
 
 namespace dynslam {
@@ -21,5 +22,14 @@ struct CloudBounds {
   float max[3] = {0, 0, 0};
 };
 CloudBounds computeBounds(const ColoredCloud& cloud);
+
+/// Largest coordinate magnitude accepted in a map read from a file, in
+/// metres: RGB-D maps span metres, so anything beyond is a corrupt file.
+constexpr double kMaxMapCoordinate = 1e5;
+
+/// Throws InputError(source) naming the first point that is not finite or
+/// lies beyond kMaxMapCoordinate (NaN trips PCL's filters, inf or 1e30 leave
+/// nothing for a view to frame).
+void checkMapPoints(const ColoredCloud& cloud, const std::string& source);
 
 }  // namespace dynslam

@@ -164,12 +164,19 @@ void writeGlb(const std::string& path, const MapData& map, const MapWriteOptions
   }
   root->addChildren(static_cast<unsigned>(children.size()), children.data());
 
-  AtomicPath out(path);
+  // Encoded in memory and written by us: assimp's own file writer does not
+  // report a full disk, which would leave a cut .glb under the final name.
   Assimp::Exporter exporter;
-  if (exporter.Export(scene.get(), "glb2", out.tmp()) != AI_SUCCESS) {
+  const aiExportDataBlob* blob = exporter.ExportToBlob(scene.get(), "glb2");
+  if (!blob || blob->next) {
     throw std::runtime_error(path + ": cannot write glTF (" + exporter.GetErrorString() + ")");
   }
-  out.commit();
+  writeFileAtomically(
+      path,
+      [&](std::ostream& out) {
+        out.write(static_cast<const char*>(blob->data), static_cast<std::streamsize>(blob->size));
+      },
+      true);
 }
 
 MapData readGlb(const std::string& path) {

@@ -49,6 +49,7 @@ MapData readMapFile(const std::string& path) {
       break;
   }
   if (map.points.empty()) throw InputError(path, "map has no points");
+  checkMapPoints(map.points, path);
   return map;
 }
 

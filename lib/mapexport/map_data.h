@@ -35,7 +35,8 @@ void writeMapFile(const std::string& path, const MapData& map,
                   const MapWriteOptions& options = {});
 
 /// Reads a .ply (PCL) or .glb (assimp) map. Throws InputError naming the file
-/// if it is missing, unreadable or holds no points.
+/// if it is missing, unreadable, holds no points or a point that is not
+/// finite or absurdly far (checkMapPoints).
 MapData readMapFile(const std::string& path);
 
 }  // namespace dynslam

@@ -11,6 +11,7 @@
 
 #include "core/atomic_file.h"
 #include "core/errors.h"
+#include "mapexport/ply_check.h"
 
 namespace dynslam {
 
@@ -38,11 +39,19 @@ void writePlyBinary(const std::string& path, const ColoredCloud& cloud) {
     throw std::runtime_error(path + ": cannot write PLY (" + e.what() + ")");
   }
   if (rc < 0) throw std::runtime_error(path + ": cannot write PLY");
+  // PCL reports success on a full disk: read the header back and check the
+  // size before the file gets its final name.
+  try {
+    if (checkPlyFile(out.tmp()).vertices != cloud.size()) throw std::runtime_error("count");
+  } catch (const std::exception&) {
+    throw std::runtime_error(path + ": write failed, file incomplete (disk full?)");
+  }
   out.commit();
 }
 
 ColoredCloud readPly(const std::string& path) {
   if (!fileExists(path)) throw InputError(path, "file not found");
+  const PlyLayout layout = checkPlyFile(path);  // PCL trusts the header blindly
   pcl::PointCloud<pcl::PointXYZRGB> pc;
   int rc = -1;
   // PCL warns about every PLY property it does not map (e.g. the 'camera'
@@ -60,6 +69,9 @@ ColoredCloud readPly(const std::string& path) {
   ColoredCloud cloud;
   cloud.reserve(pc.size());
   for (const auto& q : pc) cloud.push_back(ColoredPoint{q.x, q.y, q.z, q.r, q.g, q.b});
+  if (cloud.size() != layout.vertices)
+    throw InputError(path, "read " + std::to_string(cloud.size()) +
+                               " points, the header declares " + std::to_string(layout.vertices));
   return cloud;
 }
 

@@ -11,7 +11,9 @@ namespace dynslam {
 /// naming the path on failure.
 void writePlyBinary(const std::string& path, const ColoredCloud& cloud);
 
-/// Throws InputError naming the file if it is missing or not a PLY point cloud.
+/// Throws InputError naming the file if it is missing or not a PLY point
+/// cloud whose data matches its header (see ply_check.h). The coordinates are
+/// not checked here (readMapFile does, with checkMapPoints).
 ColoredCloud readPly(const std::string& path);
 
 /// Sparse SLAM map points from `map_points.txt` ("x y z r g b" per line,

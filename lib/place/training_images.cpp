@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "core/errors.h"
+#include "rawlog/image_checks.h"
 #include "rawlog/sequence_source.h"
 
 namespace dynslam {
@@ -68,6 +69,7 @@ std::vector<cv::Mat> extractTrainingDescriptors(
   out.reserve(images.size());
   std::vector<cv::KeyPoint> keypoints;
   for (const std::string& path : images) {
+    checkImageFileComplete(path);  // imread pads a truncated JPEG silently
     const cv::Mat gray = cv::imread(path, cv::IMREAD_GRAYSCALE);
     if (gray.empty()) throw InputError(path, "cannot read image");
     cv::Mat descriptors;

@@ -35,16 +35,16 @@ void FramePrefetcher::run() {
     {
       std::unique_lock<std::mutex> lk(m_);
       cv_.wait(lk, [&] { return stop_ || ready_.size() < depth_; });
-      if (stop_ || next_to_load_ >= count_ || error_) return;
+      if (stop_ || next_to_load_ >= count_ || error_.failed()) return;
       i = next_to_load_++;
     }
-    try {
+    error_.run([&] {
       auto item = timedLoad(source_, i);
       std::lock_guard<std::mutex> lk(m_);
       ready_.push_back(std::move(item));
-    } catch (...) {
-      std::lock_guard<std::mutex> lk(m_);
-      error_ = std::current_exception();
+    });
+    {
+      std::lock_guard<std::mutex> lk(m_);  // a waiter must not miss the failure
     }
     cv_.notify_all();
   }
@@ -57,8 +57,8 @@ RGBDFrame FramePrefetcher::next(double* load_ms) {
     item = timedLoad(source_, next_to_give_);
   } else {
     std::unique_lock<std::mutex> lk(m_);
-    cv_.wait(lk, [&] { return !ready_.empty() || error_; });
-    if (ready_.empty()) std::rethrow_exception(error_);
+    cv_.wait(lk, [&] { return !ready_.empty() || error_.failed(); });
+    if (ready_.empty()) error_.rethrowIfFailed();
     item = std::move(ready_.front());
     ready_.pop_front();
   }

@@ -4,11 +4,11 @@
 // machine and does not need to sit on the tracking path.
 #include <condition_variable>
 #include <deque>
-#include <exception>
 #include <mutex>
 #include <thread>
 
 #include "core/rgbd_frame.h"
+#include "core/worker_error.h"
 
 namespace dynslam {
 
@@ -28,7 +28,7 @@ class FramePrefetcher {
   const FrameSource& source_;
   std::size_t count_, depth_, next_to_load_ = 0, next_to_give_ = 0;
   std::deque<std::pair<RGBDFrame, double>> ready_;
-  std::exception_ptr error_;
+  WorkerError error_;
   bool stop_ = false;
   std::mutex m_;
   std::condition_variable cv_;

@@ -38,7 +38,14 @@ SlamSystem::SlamSystem(const SlamConfig& config, const PinholeCamera& camera)
   }
 }
 
-SlamSystem::~SlamSystem() { finish(); }
+SlamSystem::~SlamSystem() {
+  // A worker's error reaches the user through an explicit finish(); here,
+  // during unwinding, another error is already on its way out.
+  try {
+    finish();
+  } catch (...) {
+  }
+}
 
 FrameOutcome SlamSystem::process(const RGBDFrame& frame) {
   const auto t0 = Clock::now();
@@ -101,15 +108,21 @@ FrameOutcome SlamSystem::process(const RGBDFrame& frame) {
 void SlamSystem::finish() {
   if (finished_) return;
   finished_ = true;
-  mapper_->flush();
-  if (loop_) {
-    // A loop closure pauses the mapper, which may then map queued keyframes
-    // that the loop closer checks in turn.
-    loop_->flush();
+  try {  // flush() rethrows a worker thread's exception
     mapper_->flush();
-    loop_->flush();
-    loop_->stop();
+    if (loop_) {
+      // A loop closure pauses the mapper, which may then map queued keyframes
+      // that the loop closer checks in turn.
+      loop_->flush();
+      mapper_->flush();
+      loop_->flush();
+    }
+  } catch (...) {
+    mapper_->stop();  // no worker may outlive a failed run
+    if (loop_) loop_->stop();
+    throw;
   }
+  if (loop_) loop_->stop();
   mapper_->stop();
   if (cfg_.system.final_global_ba) {
     BAParams ba = cfg_.mapper.ba;

@@ -1,5 +1,7 @@
 #include "system/system_config.h"
 
+#include <cmath>
+
 #include "core/camera.h"
 #include "core/config_reader.h"
 
@@ -35,6 +37,17 @@ SlamConfig loadSlamConfig(const std::string& path) {
   o.rejectUnknownKeys();
   if (c.orb.n_features < 50 || c.orb.n_levels < 1 || !(c.orb.scale_factor > 1.0f))
     throw InputError(path, "orb: n_features >= 50, n_levels >= 1, scale_factor > 1 required");
+  // Upper bounds: the smallest pyramid level must stay a usable image (OpenCV
+  // asserts on an empty one), and the per-level budgets must stay allocatable.
+  if (c.orb.n_features > 100000 || c.orb.n_levels > 32 || c.orb.scale_factor > 2.0f ||
+      std::pow(double(c.orb.scale_factor), c.orb.n_levels - 1) > 8.0)
+    throw InputError(path, "orb: n_features <= 100000, n_levels <= 32, scale_factor <= 2 and "
+                           "scale_factor^(n_levels-1) <= 8 required (got n_levels " +
+                               std::to_string(c.orb.n_levels) + ", scale_factor " +
+                               std::to_string(c.orb.scale_factor) + ")");
+  if (c.orb.ini_fast_threshold < 1 || c.orb.ini_fast_threshold > 255 ||
+      c.orb.min_fast_threshold < 1 || c.orb.min_fast_threshold > 255)
+    throw InputError(path, "orb: ini_fast_threshold and min_fast_threshold must be in 1..255");
 
   TrackerParams& t = c.tracker;
   ConfigSection tr = root.sub("tracker");

@@ -68,6 +68,25 @@ CommandResult runDynslam(const std::vector<std::string>& args) {
   return r;
 }
 
+SplitCommandResult runDynslamSplit(const std::vector<std::string>& args) {
+  const TempDir scratch;
+  const std::string err_path = scratch / "stderr.txt";
+  std::string cmd = shellQuote(dynslamBinary());
+  for (const auto& a : args) cmd += " " + shellQuote(a);
+  // exec: a signal that kills dynslam shows as a signal, not as the shell's 128+N.
+  cmd = "exec " + cmd + " 2>" + shellQuote(err_path) + " </dev/null";
+  SplitCommandResult r;
+  FILE* p = ::popen(cmd.c_str(), "r");
+  if (!p) return r;
+  std::array<char, 4096> buf;
+  std::size_t k;
+  while ((k = std::fread(buf.data(), 1, buf.size(), p)) > 0) r.out.append(buf.data(), k);
+  const int status = ::pclose(p);
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  r.err = readText(err_path);
+  return r;
+}
+
 void writeText(const std::string& path, const std::string& content) {
   fs::create_directories(fs::path(path).parent_path());
   std::ofstream(path) << content;

@@ -39,6 +39,14 @@ struct CommandResult {
 /// Runs `dynslam ARGS...` (shell-quoted) and captures its output.
 CommandResult runDynslam(const std::vector<std::string>& args);
 
+struct SplitCommandResult {
+  int exit_code = -1;  ///< -1 when killed by a signal
+  std::string out, err;
+};
+/// Runs `dynslam ARGS...` with stdout and stderr captured apart (for checks
+/// on the error line alone).
+SplitCommandResult runDynslamSplit(const std::vector<std::string>& args);
+
 /// Writes a text file (creating parent folders).
 void writeText(const std::string& path, const std::string& content);
 /// The whole file, byte for byte ("" when it cannot be opened).

@@ -1,4 +1,4 @@
-#include "rawlog/mrpt_messages.h"
+#include "core/mrpt_messages.h"
 
 #include <sstream>
 

@@ -1,0 +1,73 @@
+#include "core/yaml_keys.h"
+
+#include <map>
+#include <vector>
+
+namespace dynslam {
+namespace {
+
+/// One open block mapping: its indentation and the keys seen so far.
+struct MappingLevel {
+  std::size_t indent;
+  std::map<std::string, std::size_t> keys;  ///< key -> first line
+};
+
+/// "  key: value # c" -> "key" (empty when the line holds no plain key).
+std::string plainKey(const std::string& line, std::size_t from) {
+  std::size_t end = from;
+  while (end < line.size() && line[end] != ':' && line[end] != '#' && line[end] != '{' &&
+         line[end] != '[' && line[end] != '"' && line[end] != '\'')
+    ++end;
+  if (end >= line.size() || line[end] != ':') return "";
+  if (end + 1 < line.size() && line[end + 1] != ' ' && line[end + 1] != '\t') return "";
+  std::string key = line.substr(from, end - from);
+  while (!key.empty() && (key.back() == ' ' || key.back() == '\t')) key.pop_back();
+  return key;
+}
+
+/// Whether the value after "key:" opens a block scalar (| or >).
+bool opensBlockScalar(const std::string& line) {
+  const auto colon = line.find(':');
+  const auto v = line.find_first_not_of(" \t", colon + 1);
+  return v != std::string::npos && (line[v] == '|' || line[v] == '>');
+}
+
+}  // namespace
+
+DuplicateKey findDuplicateKey(std::istream& in) {
+  std::vector<MappingLevel> levels;
+  std::size_t line_no = 0;
+  std::size_t block_scalar_indent = std::string::npos;  // inside `key: |` text
+  for (std::string line; std::getline(in, line);) {
+    ++line_no;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    std::size_t indent = line.find_first_not_of(' ');
+    if (indent == std::string::npos || line[indent] == '#') continue;
+    if (block_scalar_indent != std::string::npos) {
+      if (indent > block_scalar_indent) continue;
+      block_scalar_indent = std::string::npos;
+    }
+    if (line.compare(indent, 3, "---") == 0) {  // a new document
+      levels.clear();
+      continue;
+    }
+    bool new_item = false;
+    while (line.compare(indent, 2, "- ") == 0) {  // "- key: v" starts a mapping
+      indent = line.find_first_not_of(' ', indent + 1);
+      new_item = true;
+      if (indent == std::string::npos) break;
+    }
+    if (indent == std::string::npos) continue;
+    while (!levels.empty() && levels.back().indent > indent) levels.pop_back();
+    if (new_item && !levels.empty() && levels.back().indent == indent) levels.pop_back();
+    const std::string key = plainKey(line, indent);
+    if (key.empty()) continue;
+    if (levels.empty() || levels.back().indent < indent) levels.push_back({indent, {}});
+    auto [it, inserted] = levels.back().keys.emplace(key, line_no);
+    if (!inserted) return DuplicateKey{key, line_no, it->second};
+    if (opensBlockScalar(line)) block_scalar_indent = indent;
+  }
+  return {};
+}
+
+}  // namespace dynslam

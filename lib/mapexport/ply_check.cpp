@@ -1,0 +1,193 @@
+#include "mapexport/ply_check.h"
+
+#include <fstream>
+#include <sstream>
+#include <vector>
+
+#include "core/errors.h"
+
+namespace dynslam {
+namespace {
+
+struct PlyElement {
+  std::string name;
+  std::size_t count = 0;
+  std::size_t row_bytes = 0;  ///< binary size of one row (scalar properties)
+  std::vector<std::string> properties;
+  bool has_list = false;
+  std::size_t line = 0;
+};
+
+/// Size in bytes of a PLY scalar type; 0 for an unknown name.
+std::size_t scalarBytes(const std::string& type) {
+  if (type == "char" || type == "uchar" || type == "int8" || type == "uint8") return 1;
+  if (type == "short" || type == "ushort" || type == "int16" || type == "uint16") return 2;
+  if (type == "int" || type == "uint" || type == "float" || type == "int32" ||
+      type == "uint32" || type == "float32")
+    return 4;
+  if (type == "double" || type == "float64") return 8;
+  return 0;
+}
+
+/// Strict element count: digits only, at most a billion rows.
+bool parseCount(const std::string& text, std::size_t& count) {
+  if (text.empty() || text.size() > 10 || text.find_first_not_of("0123456789") != std::string::npos)
+    return false;
+  count = std::stoull(text);
+  return count <= 1000000000ull;
+}
+
+std::vector<std::string> words(const std::string& line) {
+  std::istringstream in(line);
+  std::vector<std::string> out;
+  for (std::string w; in >> w;) out.push_back(w);
+  return out;
+}
+
+/// Reads the header lines up to end_header; leaves `in` at the first data byte.
+/// `header_lines` receives the number of header lines (for data line numbers).
+std::vector<PlyElement> readHeader(const std::string& path, std::istream& in, bool& ascii,
+                                   std::size_t& header_lines) {
+  std::string line;
+  std::size_t line_no = 0;
+  auto next = [&]() -> bool {
+    if (!std::getline(in, line)) return false;
+    ++line_no;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    return true;
+  };
+  if (!next() || line != "ply") throw InputError(path, "not a PLY file (no 'ply' first line)");
+  std::vector<PlyElement> elements;
+  bool have_format = false;
+  for (;;) {
+    if (!next()) throw InputError(path, "PLY header has no end_header line");
+    const std::vector<std::string> w = words(line);
+    if (w.empty() || w[0] == "comment" || w[0] == "obj_info") continue;
+    if (w[0] == "end_header") break;
+    if (w[0] == "format") {
+      if (w.size() != 3 || (w[1] != "ascii" && w[1] != "binary_little_endian" &&
+                            w[1] != "binary_big_endian"))
+        throw InputError(path, line_no, "unknown PLY format line '" + line + "'");
+      ascii = w[1] == "ascii";
+      have_format = true;
+    } else if (w[0] == "element") {
+      PlyElement e;
+      if (w.size() != 3 || !parseCount(w[2], e.count))
+        throw InputError(path, line_no, "bad element line '" + line + "'");
+      e.name = w[1];
+      e.line = line_no;
+      elements.push_back(e);
+    } else if (w[0] == "property") {
+      if (elements.empty()) throw InputError(path, line_no, "property before any element");
+      if (w.size() == 5 && w[1] == "list") {  // sized per row: only in empty elements
+        elements.back().has_list = true;
+        elements.back().properties.push_back(w[4]);
+        continue;
+      }
+      const std::size_t bytes = w.size() == 3 ? scalarBytes(w[1]) : 0;
+      if (bytes == 0) throw InputError(path, line_no, "bad property line '" + line + "'");
+      elements.back().row_bytes += bytes;
+      elements.back().properties.push_back(w[2]);
+    } else {
+      throw InputError(path, line_no, "unexpected PLY header line '" + line + "'");
+    }
+  }
+  if (!have_format) throw InputError(path, "PLY header has no format line");
+  header_lines = line_no;
+  return elements;
+}
+
+bool hasProperty(const PlyElement& e, const char* name) {
+  for (const auto& p : e.properties)
+    if (p == name) return true;
+  return false;
+}
+
+/// One 'vertex' element with x, y, z first; after it only PCL's 'camera' row
+/// and empty elements (PCL's writer adds "element face 0").
+void checkElements(const std::string& path, const std::vector<PlyElement>& elements) {
+  if (elements.empty()) throw InputError(path, "PLY header declares no elements");
+  const PlyElement& v = elements.front();
+  if (v.name != "vertex")
+    throw InputError(path, v.line,
+                     "element '" + v.name + "' before the vertices: point clouds only");
+  if (!hasProperty(v, "x") || !hasProperty(v, "y") || !hasProperty(v, "z"))
+    throw InputError(path, v.line, "vertex element lacks x, y or z");
+  if (v.has_list) throw InputError(path, v.line, "list property in the vertex element");
+  for (std::size_t i = 1; i < elements.size(); ++i) {
+    const PlyElement& e = elements[i];
+    if (e.count == 0) continue;
+    if (e.name != "camera" || e.count > 1 || e.has_list)
+      throw InputError(path, e.line,
+                       "element '" + e.name + "' after the vertices: point clouds only");
+  }
+}
+
+void checkBinarySize(const std::string& path, std::istream& in,
+                     const std::vector<PlyElement>& elements) {
+  std::size_t expected = 0;
+  for (const auto& e : elements) expected += e.count * e.row_bytes;
+  const auto data_start = in.tellg();
+  in.seekg(0, std::ios::end);
+  const auto size = static_cast<std::size_t>(in.tellg() - data_start);
+  const std::size_t nv = elements.front().count;
+  if (size < expected)
+    throw InputError(path, "data ends after " + std::to_string(size) + " of the " +
+                               std::to_string(expected) + " bytes the header declares (" +
+                               std::to_string(nv) + " vertices): truncated or wrong count");
+  if (size > expected)
+    throw InputError(path, std::to_string(size - expected) +
+                               " bytes after the data the header declares (" +
+                               std::to_string(nv) + " vertices): wrong vertex count");
+}
+
+void checkAsciiRows(const std::string& path, std::istream& in,
+                    const std::vector<PlyElement>& elements, std::size_t header_lines) {
+  std::string line;
+  std::size_t line_no = header_lines, row = 0, element = 0;
+  while (std::getline(in, line)) {
+    ++line_no;
+    const std::vector<std::string> w = words(line);
+    if (w.empty()) continue;
+    while (element < elements.size() && row == elements[element].count) {
+      ++element;
+      row = 0;
+    }
+    if (element == elements.size())
+      throw InputError(path, line_no, "more data rows than the header declares");
+    if (w.size() != elements[element].properties.size())
+      throw InputError(path, line_no,
+                       std::to_string(w.size()) + " values, the header declares " +
+                           std::to_string(elements[element].properties.size()));
+    ++row;
+  }
+  std::size_t rows = 0, expected = 0;
+  for (std::size_t i = 0; i < elements.size(); ++i) {
+    expected += elements[i].count;
+    if (i < element) rows += elements[i].count;
+  }
+  rows += row;
+  if (rows != expected)
+    throw InputError(path, "data ends after " + std::to_string(rows) + " of the " +
+                               std::to_string(expected) + " rows the header declares");
+}
+
+}  // namespace
+
+PlyLayout checkPlyFile(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path, "cannot open");
+  PlyLayout layout;
+  std::size_t header_lines = 0;
+  const std::vector<PlyElement> elements = readHeader(path, in, layout.ascii, header_lines);
+  checkElements(path, elements);
+  layout.vertices = elements.front().count;
+  if (layout.ascii) {
+    checkAsciiRows(path, in, elements, header_lines);
+  } else {
+    checkBinarySize(path, in, elements);
+  }
+  return layout;
+}
+
+}  // namespace dynslam

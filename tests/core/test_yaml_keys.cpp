@@ -1,0 +1,42 @@
+// findDuplicateKey: a key repeated within one block mapping is found (with
+// both lines); equal keys in different mappings, list items or block scalars
+// are not duplicates.
+#include <gtest/gtest.h>
+
+#include <sstream>
+
+#include "core/yaml_keys.h"
+
+using dynslam::DuplicateKey;
+using dynslam::findDuplicateKey;
+
+namespace {
+DuplicateKey scan(const std::string& text) {
+  std::istringstream in(text);
+  return findDuplicateKey(in);
+}
+}  // namespace
+
+TEST(YamlKeys, FindsARepeatedKeyWithBothLines) {
+  const DuplicateKey d = scan("orb:\n  n_features: 1\n  # c\n  n_features: 2\n");
+  EXPECT_EQ(d.key, "n_features");
+  EXPECT_EQ(d.line, 4u);
+  EXPECT_EQ(d.first_line, 2u);
+}
+
+TEST(YamlKeys, FindsARepeatedSection) {
+  EXPECT_EQ(scan("a:\n  x: 1\nb: 2\na:\n  y: 1\n").line, 4u);
+}
+
+TEST(YamlKeys, SameKeyInDifferentMappingsIsFine) {
+  EXPECT_EQ(scan("a:\n  x: 1\nb:\n  x: 2\n  c:\n    x: 3\n").line, 0u);
+}
+
+TEST(YamlKeys, ListItemsAreSeparateMappings) {
+  EXPECT_EQ(scan("l:\n  - name: a\n    v: 1\n  - name: b\n    v: 2\n").line, 0u);
+  EXPECT_EQ(scan("l:\n  - name: a\n    name: b\n").line, 3u);
+}
+
+TEST(YamlKeys, BlockScalarsAndValuesAreNotKeys) {
+  EXPECT_EQ(scan("t: |\n  a: 1\n  a: 2\nu: http://x/y\nv: 'a: b'\n").line, 0u);
+}

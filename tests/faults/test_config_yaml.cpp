@@ -1,0 +1,69 @@
+// Bad SLAM config and camera YAML given to `run`: trailing junk in numbers,
+// repeated keys, unknown camera keys, malformed YAML, a bare scalar and
+// out-of-range values are each one error line naming the file (and the line
+// where one is known), exit 1, before any output is written.
+#include <filesystem>
+#include <fstream>
+
+#include "fault_support.h"
+
+using namespace dynslam::test;
+namespace fs = std::filesystem;
+
+namespace {
+
+const char* const kCamera =
+    "camera:\n  width: 640\n  height: 480\n  fx: 517.3\n  fy: 516.5\n  cx: 318.6\n"
+    "  cy: 255.3\n  depth_scale: 5000.0\n";
+
+class BadYaml : public ::testing::Test {
+ protected:
+  void SetUp() override { tum_ = makeMiniTum(dir_.path(), 3); }
+
+  /// `run` with `text` as --config (or as --camera); expects the fault.
+  void expectRejected(const std::string& text, bool camera = false,
+                      const std::string& where = "") {
+    const std::string yaml = dir_ / "bad.yaml";
+    writeText(yaml, text);
+    std::vector<std::string> args = {"run", tum_.dir, "-o", dir_ / "out", "--mode", "off"};
+    args.push_back(camera ? "--camera" : "--config");
+    args.push_back(yaml);
+    const SplitCommandResult r = runDynslamSplit(args);
+    expectHandledFault(r, 1, yaml + where);
+    EXPECT_FALSE(fs::exists(dir_ / "out/trajectory.txt"));
+  }
+  TempDir dir_;
+  MiniTum tum_;
+};
+
+}  // namespace
+
+TEST_F(BadYaml, TrailingJunkInInteger) { expectRejected("orb:\n  n_features: 1000x\n"); }
+TEST_F(BadYaml, TrailingJunkInReal) { expectRejected("orb:\n  scale_factor: 1.2x\n"); }
+TEST_F(BadYaml, TrailingJunkInCameraNumber) {
+  std::string cam = kCamera;
+  cam.replace(cam.find("517.3"), 5, "40.0abc");
+  expectRejected(cam, true);
+}
+TEST_F(BadYaml, DuplicateKey) {
+  expectRejected("orb:\n  n_features: 500\n  n_features: 600\n", false, ":3:");
+}
+TEST_F(BadYaml, DuplicateSection) {
+  expectRejected("orb:\n  n_features: 500\ntracker: {}\norb:\n  n_levels: 4\n", false, ":4:");
+}
+TEST_F(BadYaml, DuplicateCameraKey) { expectRejected(std::string(kCamera) + "  fx: 1.0\n", true, ":9:"); }
+TEST_F(BadYaml, UnknownCameraKey) { expectRejected(std::string(kCamera) + "  k4: 0.1\n", true); }
+TEST_F(BadYaml, MalformedYaml) { expectRejected("orb: [1, 2\n  n_features: {\n"); }
+TEST_F(BadYaml, BareScalar) { expectRejected("just some words\n"); }
+TEST_F(BadYaml, BareScalarCamera) { expectRejected("42\n", true); }
+TEST_F(BadYaml, RandomBytes) { expectRejected(std::string("\x01\x9c\xff:\x00\x7f[{", 9) + "\n"); }
+TEST_F(BadYaml, HugePyramid) { expectRejected("orb:\n  n_levels: 1000000\n"); }
+TEST_F(BadYaml, HugeFeatureCount) { expectRejected("orb:\n  n_features: 1e12\n"); }
+
+// The control: a valid camera file (the same text) runs.
+TEST_F(BadYaml, ValidCameraRuns) {
+  writeText(dir_ / "cam.yaml", kCamera);
+  const SplitCommandResult r = runDynslamSplit(
+      {"run", tum_.dir, "-o", dir_ / "out", "--mode", "off", "--camera", dir_ / "cam.yaml"});
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+}

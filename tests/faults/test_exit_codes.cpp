@@ -1,0 +1,72 @@
+// Exit codes: 2 for every bad command-line value (TCLAP's own errors and the
+// ranges the commands check themselves), 1 for bad files and failures. A bad
+// value is found before any file is read or written.
+#include <filesystem>
+
+#include "fault_support.h"
+
+using namespace dynslam::test;
+namespace fs = std::filesystem;
+
+namespace {
+/// A valid one-vertex-per-line ASCII PLY (render reads it only when the
+/// command line is fine).
+std::string writeSmallPly(const TempDir& d) {
+  std::string text =
+      "ply\nformat ascii 1.0\nelement vertex 100\nproperty float x\nproperty float y\n"
+      "property float z\nend_header\n";
+  for (int i = 0; i < 100; ++i)
+    text += std::to_string(i % 10 * 0.1) + " " + std::to_string(i / 10 * 0.1) + " 0\n";
+  writeText(d / "map.ply", text);
+  return d / "map.ply";
+}
+
+void expectUsageError(const std::vector<std::string>& args, const std::string& names) {
+  const SplitCommandResult r = runDynslamSplit(args);
+  expectHandledFault(r, 2, names);
+}
+}  // namespace
+
+TEST(ExitCodes, RunMaxFramesZeroAndNegative) {
+  TempDir d;
+  const MiniTum tum = makeMiniTum(d.path(), 2);
+  expectUsageError({"run", tum.dir, "-o", d / "out", "--max-frames", "0"}, "--max-frames");
+  expectUsageError({"run", tum.dir, "-o", d / "out", "--max-frames", "-1"}, "--max-frames");
+  EXPECT_FALSE(fs::exists(d / "out"));
+}
+
+TEST(ExitCodes, RenderRangeErrors) {
+  TempDir d;
+  const std::string ply = writeSmallPly(d);
+  expectUsageError({"render", ply, "-o", d / "a.png", "--width", "0"}, "image size");
+  expectUsageError({"render", ply, "-o", d / "a.png", "--fov", "400"}, "FOV");
+  expectUsageError({"render", ply, "-o", d / "a.png", "--background", "300,0,0"},
+                   "--background");
+  expectUsageError({"render", ply, "-o", d / "a.png", "--up", "1,2"}, "--up");
+  expectUsageError({"render", ply, "-o", d / "a.png", "--view", "sideways"}, "sideways");
+  EXPECT_EQ(entriesIn(d.path()), std::vector<std::string>{"map.ply"});
+}
+
+TEST(ExitCodes, ExportRangeErrors) {
+  TempDir d;
+  // RUN_DIR does not exist: the bad value is reported first, with exit 2.
+  expectUsageError({"export", d / "run", "-o", d / "m.ply", "--stride", "0"}, "pixel_stride");
+  expectUsageError({"export", d / "run", "-o", d / "m.ply", "--mask-margin", "-3"},
+                   "mask_margin");
+  expectUsageError({"export", d / "run", "-o", d / "m.ply", "--voxel", "-1"}, "voxel_leaf");
+  expectUsageError({"export", d / "run", "-o", d / "m.xyz"}, "m.xyz");
+  EXPECT_TRUE(entriesIn(d.path()).empty());
+}
+
+TEST(ExitCodes, BenchMaxFramesNegative) {
+  TempDir d;
+  expectUsageError({"bench", d / "seq", "--max-frames", "-1", "-o", d / "b"}, "--max-frames");
+  EXPECT_TRUE(entriesIn(d.path()).empty());
+}
+
+// Bad files stay exit 1 (the other side of the rule).
+TEST(ExitCodes, MissingInputIsExit1) {
+  TempDir d;
+  const SplitCommandResult r = runDynslamSplit({"render", d / "none.ply", "-o", d / "a.png"});
+  expectHandledFault(r, 1, d / "none.ply");
+}
