@@ -69,9 +69,10 @@ RunRecord BenchRunner::runOne(const SequenceInfo& seq, const std::string& mode, 
   r.mode = mode;
   r.run = run;
   r.dir = options_.out_dir + "/" + seq.name + "/" + mode + "/run" + std::to_string(run);
-  makeDirectories(r.dir);
-  // Outputs of an earlier bench in the same folder must not be mistaken for this run's.
-  for (const char* f : {"trajectory.txt", "report.json", "frame_times.txt"}) fs::remove(r.dir + "/" + f);
+  // The run replaces an earlier bench's run folder whole (or leaves it when
+  // it fails: then r.ok stays false and nothing of it is read); its log
+  // lies beside it, since the run folder is only written on success.
+  makeDirectories(fs::path(r.dir).parent_path().string());
 
   std::vector<std::string> argv = {options_.dynslam_binary, "run", seq.path, "-o", r.dir,
                                    "--mode", mode};
@@ -83,7 +84,7 @@ RunRecord BenchRunner::runOne(const SequenceInfo& seq, const std::string& mode, 
     argv.push_back("--config");
     argv.push_back(options_.config);
   }
-  const std::string log = r.dir + "/log.txt";
+  const std::string log = r.dir + ".log";
   try {
     const ChildResult child = runChildProcess(argv, log);
     r.wall_s = child.wall_s;

@@ -169,6 +169,7 @@ std::string writeFakeDynslam(const TempDir& dir, const std::string& trajectory) 
                   "# args: run SEQ -o DIR --mode MODE ...\n"
                   "out=\"$4\"; mode=\"$6\"\n"
                   "if [ \"$mode\" = flow ]; then echo 'simulated failure' >&2; exit 3; fi\n"
+                  "mkdir -p \"$out\"\n"  // as the real run: it makes its folder
                   "cp '" + trajectory + "' \"$out/trajectory.txt\"\n"
                   "printf '{\\n  \"fps\": 12.5,\\n  \"peak_rss_mb\": 1,\\n  \"keyframes\": 7,\\n  \"map_points\": 321,\\n  "
                   "\"relocalisation_count\": 2,\\n  \"loop_closing\": {\\n    \"loops_closed\": 1\\n  },\\n  \"mask_scores\": {\\n    "
