@@ -64,10 +64,11 @@ struct DynamicFilterParams {
   /// synchronously, reproducible: set by --deterministic).
   bool async_detector = true;
   /// Give the detector a frame at most every this many frames (1: whenever it
-  /// is idle). A forward pass costs about three frames' worth of CPU on a
-  /// 2-core machine; the boxes carried by the flow fill the gaps (the walker
-  /// recall does not drop up to 4, see docs/benchmarks.md).
-  int detector_interval = 4;
+  /// is idle). Larger values leave CPU to tracking (a forward pass costs
+  /// about three frames' worth on a 2-core machine) while the boxes carried
+  /// by the flow fill the gaps; at 4, rpy_close lost the close walkers in 2
+  /// of 3 runs (docs/benchmarks.md), so 1.
+  int detector_interval = 1;
   /// Keypoints within this distance (px) of a dynamic pixel are flagged.
   int mask_margin_px = 4;
   /// Radius (px) of the disc marked around each point that failed the motion

@@ -64,9 +64,22 @@ YoloDetector& detector(const std::string& name) {
   return *d;
 }
 
-// Every expected box is matched (IoU > 0.5) by a distinct person detection.
+// Every expected box is matched (IoU > 0.5) by a distinct person detection,
+// there are at most max_people person detections (no duplicates: the people
+// are counted by hand), and no two detections of one class overlap by more
+// than the NMS IoU (0.45, the default): without the suppression each person
+// comes out as a cluster of boxes.
 void expectPeople(const std::vector<Detection>& dets, const std::vector<cv::Rect2f>& expected,
-                  const std::string& what) {
+                  std::size_t max_people, const std::string& what) {
+  std::size_t people = 0;
+  for (const auto& d : dets) people += d.class_id == 0;
+  EXPECT_LE(people, max_people) << what;
+  for (std::size_t i = 0; i < dets.size(); ++i)
+    for (std::size_t j = i + 1; j < dets.size(); ++j)
+      if (dets[i].class_id == dets[j].class_id)
+        EXPECT_LE(iou(dets[i].box, dets[j].box), 0.45f + 1e-4f)
+            << what << ": class " << dets[i].class_id << " boxes " << dets[i].box << " and "
+            << dets[j].box << " survive suppression together";
   std::vector<bool> used(dets.size(), false);
   for (const auto& e : expected) {
     int best = -1;
@@ -94,8 +107,9 @@ class DetectorLayouts : public ::testing::TestWithParam<const char*> {};
 
 TEST_P(DetectorLayouts, FindsHandCheckedPeople) {
   YoloDetector& det = detector(GetParam());
-  expectPeople(det.detect(image("zidane.jpg")), kZidanePeople, std::string(GetParam()) + " zidane");
-  expectPeople(det.detect(image("bus.jpg")), kBusPeople, std::string(GetParam()) + " bus");
+  // Zidane: the two men. Bus: the three required and the sliver at the left edge.
+  expectPeople(det.detect(image("zidane.jpg")), kZidanePeople, 2, std::string(GetParam()) + " zidane");
+  expectPeople(det.detect(image("bus.jpg")), kBusPeople, 4, std::string(GetParam()) + " bus");
 }
 
 INSTANTIATE_TEST_SUITE_P(Models, DetectorLayouts,
@@ -118,7 +132,7 @@ TEST(Detector, FrameSizedInputNeedsNoLetterbox) {
   expectPeople(dets,
                {cv::Rect2f(cv::Point2f(50, 18), cv::Point2f(245, 480)),
                 cv::Rect2f(cv::Point2f(222, 25), cv::Point2f(345, 480))},
-               "640x480 crop");
+               3, "640x480 crop");  // and perhaps the sliver at the left edge
   for (const auto& d : dets) {  // clipped to the image
     EXPECT_GE(d.box.x, 0.f);
     EXPECT_LE(d.box.x + d.box.width, 640.f + 1e-3f);
@@ -132,7 +146,7 @@ TEST(Detector, MatchesCocoInstanceMask) {
   ASSERT_EQ(mask.type(), CV_8UC1);
   const cv::Rect truth = cv::boundingRect(mask == 1);
   ASSERT_GT(truth.area(), 1000);
-  expectPeople(detector("yolox_nano").detect(image("000000000785.jpg")), {cv::Rect2f(truth)},
+  expectPeople(detector("yolox_nano").detect(image("000000000785.jpg")), {cv::Rect2f(truth)}, 1,
                "000000000785 yolox");
 }
 
