@@ -1,6 +1,7 @@
-// Ctrl-C / SIGTERM on the real binary: `run` writes the frames processed so
-// far (marked interrupted) and exits 128 + signal; a second signal ends it at
-// once and the next run cleans up; `convert` leaves nothing behind.
+// Fault injection (issue 16): Ctrl-C / SIGTERM on the real binary (`run`
+// writes the frames processed so far, marked interrupted, and exits 128 +
+// signal; a second signal ends it at once and the next run cleans up;
+// `convert` leaves nothing behind), and the run folder as one unit.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <unistd.h>

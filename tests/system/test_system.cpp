@@ -422,41 +422,138 @@ TEST(SystemBadInput, ConfigRejectsLossyNumbers) {
   }
 }
 
-// A 40-frame blackout (frames 30..69 removed from the lists), the scenario
-// of issue 7: the camera turns too far for the motion model, and tracking
-// must come back against the existing map (reference-keyframe matching, or
-// relocalisation over recent keyframes) within 10 frames. Known data: the
-// groundtruth of the frames after the gap.
-TEST(SystemRpy, RelocalisesAfterABlackout) {
-  TempDir d;
+namespace {
+
+// fr1_rpy's pairs 0..29, then from..to-1 (a blackout: the frames between are
+// missing from the lists), as a TUM folder in `d`.
+std::string gapSequence(const TempDir& d, std::size_t from, std::size_t to) {
   const std::string seq = d / "rgbd_dataset_freiburg1_rpy_gap";
   fs::create_directories(seq);
   fs::create_symlink(rpyDir() + "/rgb", seq + "/rgb");
   fs::create_symlink(rpyDir() + "/depth", seq + "/depth");
   fs::copy_file(rpyDir() + "/groundtruth.txt", seq + "/groundtruth.txt");
   const std::vector<double> pairs = dynslam::tumPairTimestamps(rpyDir());
-  ASSERT_GT(pairs.size(), 110u);
+  EXPECT_GT(pairs.size(), to);
   for (const std::string list : {"rgb.txt", "depth.txt"}) {
     std::ifstream in(rpyDir() + "/" + list);
     std::ofstream out(seq + "/" + list);
     for (std::string line; std::getline(in, line);) {
       if (line.empty() || line[0] == '#') continue;
       const double t = std::stod(line);
-      // Keep the pairs before frame 30 and from frame 70 to 110.
-      if (t < pairs[30] - 0.01 || (t > pairs[70] - 0.01 && t < pairs[110] - 0.01)) out << line << "\n";
+      if (t < pairs[30] - 0.01 || (t > pairs[from] - 0.01 && t < pairs[to] - 0.01)) out << line << "\n";
     }
   }
+  return seq;
+}
+
+struct GapRun {
+  dynslam::Trajectory est;
+  cv::FileStorage report;
+};
+
+GapRun runGap(const TempDir& d, std::size_t from, std::size_t to) {
+  const std::string seq = gapSequence(d, from, to);
   const std::string out = d / "out";
   const CommandResult r = runDynslam({"run", seq, "--mode", "off", "-o", out, "--deterministic"});
-  ASSERT_EQ(r.exit_code, 0) << r.output;
-  const dynslam::Trajectory est = dynslam::readTumTrajectory(out + "/trajectory.txt");
-  std::size_t after_gap = 0;
-  for (const auto& p : est) after_gap += p.timestamp > pairs[70] - 0.01;
-  // Relocalised within 10 frames of the gap's end.
-  EXPECT_GE(after_gap, 30u);
-  const auto gt = dynslam::readTumTrajectory(rpyDir() + "/groundtruth.txt");
-  const auto ate = dynslam::computeAte(gt, est);
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  GapRun g;
+  g.est = dynslam::readTumTrajectory(out + "/trajectory.txt");
+  g.report.open(out + "/report.json", cv::FileStorage::READ | cv::FileStorage::FORMAT_JSON);
+  EXPECT_TRUE(g.report.isOpened());
+  return g;
+}
+
+}  // namespace
+
+// A 40-frame blackout (frames 30..69 missing): the camera turns too far for
+// the motion model, and tracking must come back against the existing map.
+// Here matching against the reference keyframe bridges it: every frame is
+// tracked and the relocaliser is not needed (the report says so). Known
+// data: the groundtruth.
+TEST(SystemRpy, BridgesABlackoutAgainstTheReferenceKeyframe) {
+  TempDir d;
+  const GapRun g = runGap(d, 70, 110);
+  EXPECT_EQ(static_cast<int>(g.report["frames"]), 70);
+  EXPECT_EQ(static_cast<int>(g.report["tracked_frames"]), 70);
+  EXPECT_EQ(static_cast<int>(g.report["lost_frames"]), 0);
+  EXPECT_EQ(static_cast<int>(g.report["relocalisation_count"]), 0);
+  const auto ate = dynslam::computeAte(groundtruth(), g.est);
+  EXPECT_EQ(ate.stats.count, 70u);
   EXPECT_LT(ate.stats.rmse, 0.05);
+}
+
+namespace {
+
+// Worst position error (m) of the estimate's frames in [t0, t1), mapped into
+// the groundtruth frame by groundtruth pose 0 (the estimate starts at
+// identity; a rigid ATE alignment of 30 nearly coincident positions would be
+// ill-conditioned), and how many frames that was.
+std::pair<double, std::size_t> worstErrorBetween(const dynslam::Trajectory& est, double t0,
+                                                 double t1) {
+  const dynslam::Trajectory gt = groundtruth();
+  auto nearestGt = [&](double t) {
+    return std::min_element(gt.begin(), gt.end(), [&](const auto& a, const auto& b) {
+             return std::abs(a.timestamp - t) < std::abs(b.timestamp - t);
+           })->pose;
+  };
+  if (est.empty()) return {1e9, 0};
+  const mrpt::poses::CPose3D gt0 = nearestGt(est.front().timestamp);
+  double worst = 0;
+  std::size_t n = 0;
+  for (const auto& p : est) {
+    if (p.timestamp < t0 || p.timestamp >= t1) continue;
+    const mrpt::poses::CPose3D w = gt0 + p.pose;
+    const mrpt::poses::CPose3D q = nearestGt(p.timestamp);
+    worst = std::max(worst, std::hypot(w.x() - q.x(), w.y() - q.y(), w.z() - q.z()));
+    ++n;
+  }
+  return {worst, n};
+}
+
+}  // namespace
+
+// A jump from frame 29 to frame 300, where the camera looks at the part of
+// the desk the first keyframes saw from elsewhere: the first frame after the
+// jump is lost, and the relocaliser (bag of words over the whole map) must
+// bring it back within a few frames against one of those keyframes, at the
+// groundtruth pose. Measured: lost 1 frame, relocalised at frame 31 against
+// keyframe 5; frames 0..29 within 2.0 cm of groundtruth, the 30 frames after
+// the relocalisation 2.7-5.2 cm (the relocaliser's pose is not refined
+// against the map: issue 15). Carrying on from the last pose before the jump
+// would leave them off by about the groundtruth's 4.5 cm jump plus the
+// turn, a wrong keyframe by tens of cm.
+TEST(SystemRpy, RelocalisesAfterAJumpAcrossTheSequence) {
+  TempDir d;
+  const GapRun g = runGap(d, 300, 340);
+  EXPECT_GE(static_cast<int>(g.report["relocalisation_count"]), 1);
+  const cv::FileNode events = g.report["relocalisations"];
+  ASSERT_TRUE(events.isSeq());
+  ASSERT_GE(events.size(), 1u);
+  const int frame = static_cast<int>(events[0]["frame"]);
+  EXPECT_GE(frame, 30);
+  EXPECT_LE(frame, 40) << "relocalised only " << frame - 30 << " frames after the jump";
+  EXPECT_LE(static_cast<int>(g.report["lost_frames"]), 10);
+  const std::vector<double> pairs = dynslam::tumPairTimestamps(rpyDir());
+  const auto [before, n_before] = worstErrorBetween(g.est, 0, pairs[30] - 0.01);
+  EXPECT_EQ(n_before, 30u);
+  EXPECT_LT(before, 0.03);
+  // The 30 frames from the relocalised one (frame k of this run is pair
+  // 270 + k of fr1_rpy after the jump).
+  const auto [after, n_after] =
+      worstErrorBetween(g.est, pairs[270 + frame] - 0.01, pairs[300 + frame] - 0.01);
+  EXPECT_GE(n_after, 29u);
+  EXPECT_LT(after, 0.07) << "relocalised frames off groundtruth by up to " << after << " m";
+}
+
+// Known defect (issue 15 note): in the run above, the last 5 frames (pairs
+// 335..339) are off by 21-23 cm, without a relocalisation or loop closure in
+// the report: tracking follows a wrong pose at the end. Enable when fixed.
+TEST(SystemRpy, DISABLED_TracksToTheEndAfterARelocalisation) {
+  TempDir d;
+  const GapRun g = runGap(d, 300, 340);
+  const auto [worst, n] = worstErrorBetween(g.est, 0, 1e18);
+  EXPECT_GE(n, 65u);
+  EXPECT_LT(worst, 0.07);
 }
 
 // Scoring against true masks on a short composite made by the shared tool
