@@ -39,19 +39,11 @@ DynamicFeatureFilter::DynamicFeatureFilter(const DynamicFilterParams& params,
       carrier_(params.carrier),
       motion_(params.motion) {
   if (const char* d = std::getenv("DYNSLAM_DEBUG_DYNAMIC_DIR"); d && *d) debug_dir_ = d;
-  if (p_.use_detector) {
-    detector_ = std::make_unique<YoloDetector>(p_.detector);
-    if (p_.async_detector) thread_ = std::thread([this] { detectorLoop(); });
-  }
+  if (p_.use_detector)
+    detector_ = std::make_unique<DetectorThread>(p_.detector, p_.async_detector, p_.detector_interval);
 }
 
 DynamicFeatureFilter::~DynamicFeatureFilter() {
-  {
-    std::lock_guard<std::mutex> lk(m_);
-    stop_ = true;
-  }
-  cv_.notify_all();
-  if (thread_.joinable()) thread_.join();
   if (const char* env = std::getenv("DYNSLAM_DEBUG_DYNAMIC"); env && *env && *env != '0') {
     std::fprintf(stderr, "dynamic filter stage medians (ms) over %zu frames:",
                  times_.count("total") ? times_.at("total").size() : std::size_t(0));
@@ -60,74 +52,12 @@ DynamicFeatureFilter::~DynamicFeatureFilter() {
       std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
       std::fprintf(stderr, " %s %.2f", name.c_str(), v[v.size() / 2]);
     }
-    std::fprintf(stderr, "; detector runs %zu\n", runs_);
+    std::fprintf(stderr, "; detector runs %zu\n", detectorRuns());
   }
 }
 
 std::size_t DynamicFeatureFilter::detectorRuns() const {
-  std::lock_guard<std::mutex> lk(m_);
-  return runs_;
-}
-
-void DynamicFeatureFilter::detectorLoop() {
-  for (;;) {
-    cv::Mat img;
-    long frame = -1;
-    {
-      std::unique_lock<std::mutex> lk(m_);
-      cv_.wait(lk, [&] { return stop_ || !pending_.empty(); });
-      if (stop_) return;
-      img = std::move(pending_);
-      pending_ = cv::Mat();
-      frame = pending_frame_;
-      busy_ = true;
-    }
-    std::vector<Detection> boxes;
-    if (!detector_error_.run([&] { boxes = detector_->detect(img); })) {
-      std::lock_guard<std::mutex> lk(m_);  // the owner rethrows at its next call
-      busy_ = false;
-      return;
-    }
-    std::lock_guard<std::mutex> lk(m_);
-    result_ = std::move(boxes);
-    result_frame_ = frame;
-    result_new_ = true;
-    busy_ = false;
-    ++runs_;
-  }
-}
-
-void DynamicFeatureFilter::submitToDetector(const cv::Mat& bgr, long frame) {
-  if (!detector_ || !p_.async_detector) return;
-  detector_error_.rethrowIfFailed();
-  if (frame - last_submitted_ < std::max(1, p_.detector_interval)) return;
-  last_submitted_ = frame;
-  std::lock_guard<std::mutex> lk(m_);
-  pending_ = bgr.clone();  // replaces a frame the detector has not started on
-  pending_frame_ = frame;
-  cv_.notify_all();
-}
-
-void DynamicFeatureFilter::collectDetections(const cv::Mat& bgr, long frame) {
-  if (!detector_) return;
-  if (!p_.async_detector) {
-    if (frame - last_submitted_ < std::max(1, p_.detector_interval)) return;
-    last_submitted_ = frame;
-    carrier_.addDetections(frame, detector_->detect(bgr));
-    ++runs_;
-    return;
-  }
-  detector_error_.rethrowIfFailed();
-  std::vector<Detection> dets;
-  long det_frame = -1;
-  {
-    std::lock_guard<std::mutex> lk(m_);
-    if (!result_new_) return;
-    dets = std::move(result_);
-    det_frame = result_frame_;
-    result_new_ = false;
-  }
-  carrier_.addDetections(det_frame, dets);
+  return detector_ ? detector_->runs() : 0;
 }
 
 void DynamicFeatureFilter::selectFlowPoints(const std::vector<cv::KeyPoint>& keypoints,
@@ -159,7 +89,7 @@ cv::Mat DynamicFeatureFilter::prepare(const RGBDFrame& frame, const cv::Mat& gra
   ++frame_;
   prepared_frame_ = frame_;
   mask_ = cv::Mat::zeros(gray.size(), CV_8UC1);
-  if (p_.use_detector) submitToDetector(frame.rgb, frame_);
+  if (detector_) detector_->submit(frame.rgb, frame_);
 
   // Pyramid of this frame (the pipeline reuses its grey buffer: keep a copy);
   // both cues need the LK flow (the boxes are carried by it).
@@ -192,7 +122,9 @@ cv::Mat DynamicFeatureFilter::prepare(const RGBDFrame& frame, const cv::Mat& gra
     } else {
       carrier_.advanceWithoutFlow(frame_);
     }
-    collectDetections(frame.rgb, frame_);
+    std::vector<Detection> dets;
+    long det_frame = -1;
+    if (detector_ && detector_->take(dets, det_frame)) carrier_.addDetections(det_frame, dets);
     boxes_now_ = carrier_.boxes();
   }
   double ms_boxes = msSince(t0);

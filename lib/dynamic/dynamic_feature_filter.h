@@ -3,9 +3,8 @@
 // Two independent cues, either or both (the ablation modes):
 //  - detect: YOLO boxes of movable classes, restricted to the object's depth
 //    so the background seen through a box stays usable. The detector runs in
-//    its own thread on the newest frame (a 40-70 ms forward pass cannot sit
-//    on a 30 fps tracking path); its boxes are carried to each later frame
-//    by the LK flow (BoxCarrier), so they follow the person between runs.
+//    its own thread (DetectorThread); its boxes are carried to each later
+//    frame by the LK flow (BoxCarrier), so they follow the person between runs.
 //  - flow: the previous frame's keypoints tracked by LK into this frame and
 //    tested against the camera motion between the two frames' tracked
 //    poses (reprojection of the depth-backed point, epipolar distance
@@ -36,18 +35,15 @@
 // exit when DYNSLAM_DEBUG_DYNAMIC is set. DYNSLAM_DEBUG_DYNAMIC_DIR=DIR writes
 // each frame's mask parts to DIR/<frame>.png (blue: boxes, green: grown
 // regions, red: all before the margin dilation) and prints one line per frame.
-#include <condition_variable>
 #include <map>
 #include <memory>
-#include <mutex>
 #include <string>
-#include <thread>
 
 #include "core/camera.h"
 #include "core/observation_preprocessor.h"
-#include "core/worker_error.h"
 #include "dynamic/box_carrier.h"
 #include "dynamic/depth_masks.h"
+#include "dynamic/detector_thread.h"
 #include "dynamic/motion_check.h"
 #include "dynamic/yolo_detector.h"
 
@@ -170,16 +166,13 @@ class DynamicFeatureFilter : public ObservationPreprocessor {
   /// Sets dynamic[i] = 1 for the keypoints on mask_; returns how many.
   std::size_t flagOnMask(const std::vector<cv::KeyPoint>& keypoints,
                          std::vector<uint8_t>& dynamic) const;
-  void submitToDetector(const cv::Mat& bgr, long frame);
-  void collectDetections(const cv::Mat& bgr, long frame);
-  void detectorLoop();
   void selectFlowPoints(const std::vector<cv::KeyPoint>& keypoints,
                         const std::vector<cv::Point2f>& carried,
                         const std::vector<uint8_t>& carried_age);
 
   DynamicFilterParams p_;
   PinholeCamera camera_;
-  std::unique_ptr<YoloDetector> detector_;
+  std::unique_ptr<DetectorThread> detector_;
   BoxDepthMasker box_masker_;
   BoxCarrier carrier_;
   MotionConsistencyCheck motion_;
@@ -198,7 +191,6 @@ class DynamicFeatureFilter : public ObservationPreprocessor {
   bool have_prev_ = false;
   cv::Mat prev_motion_mask_;  // motion regions of the previous frame's last judgement
   long frame_ = -1;
-  long last_submitted_ = -1000000;
   cv::Mat mask_;
   std::vector<Detection> boxes_now_;
   std::map<std::string, std::vector<double>> times_;
@@ -219,20 +211,6 @@ class DynamicFeatureFilter : public ObservationPreprocessor {
   } judge_;
   std::size_t judged_frames_ = 0;
   std::size_t rejected_judgements_ = 0;
-
-  // Asynchronous detector: newest frame in, latest boxes (with their frame) out.
-  mutable std::mutex m_;
-  std::condition_variable cv_;
-  cv::Mat pending_;
-  long pending_frame_ = -1;
-  bool busy_ = false;
-  std::vector<Detection> result_;
-  long result_frame_ = -1;
-  bool result_new_ = false;
-  std::size_t runs_ = 0;
-  bool stop_ = false;
-  WorkerError detector_error_;  ///< a failed detect(), rethrown by the next frame
-  std::thread thread_;
 };
 
 }  // namespace dynslam

@@ -7,12 +7,15 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <map>
 #include <memory>
+#include <thread>
 
 #include "core/errors.h"
+#include "dynamic/detector_thread.h"
 #include "dynamic/yolo_detector.h"
 #include "testing/test_support.h"
 
@@ -215,4 +218,52 @@ TEST(Detector, LayoutNames) {
   EXPECT_EQ(parseYoloLayout("yolov5"), YoloLayout::YoloV5);
   EXPECT_EQ(parseYoloLayout("auto"), YoloLayout::Auto);
   EXPECT_THROW(parseYoloLayout("ssd"), std::invalid_argument);
+}
+
+// DetectorThread: in line, every interval-th frame, boxes taken once, with
+// the frame they came from; in its thread, the boxes of an offered frame
+// arrive; a missing model is an InputError naming it.
+TEST(DetectorThread, InLineRunsEveryIntervalthFrame) {
+  YoloDetectorParams p;
+  p.model_path = model("yolov5n_320x320");
+  DetectorThread det(p, /*async=*/false, /*interval=*/4);
+  const cv::Mat img = image("bus.jpg");
+  std::vector<long> taken;
+  for (long f = 0; f < 10; ++f) {
+    det.submit(img, f);
+    std::vector<Detection> boxes;
+    long from = -1;
+    if (det.take(boxes, from)) {
+      taken.push_back(from);
+      EXPECT_FALSE(boxes.empty());
+    }
+    EXPECT_FALSE(det.take(boxes, from));  // taken once
+  }
+  EXPECT_EQ(taken, (std::vector<long>{0, 4, 8}));
+  EXPECT_EQ(det.runs(), 3u);
+}
+
+TEST(DetectorThread, InItsThreadTheOfferedFramesBoxesArrive) {
+  YoloDetectorParams p;
+  p.model_path = model("yolov5n_320x320");
+  DetectorThread det(p, /*async=*/true, /*interval=*/1);
+  det.submit(image("bus.jpg"), 7);
+  std::vector<Detection> boxes;
+  long from = -1;
+  for (int i = 0; i < 200 && !det.take(boxes, from); ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  EXPECT_EQ(from, 7);
+  EXPECT_FALSE(boxes.empty());
+  EXPECT_EQ(det.runs(), 1u);
+}
+
+TEST(DetectorThread, MissingModelIsInputError) {
+  YoloDetectorParams p;
+  p.model_path = "/no/such/model.onnx";
+  try {
+    DetectorThread det(p, true, 1);
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file(), p.model_path);
+  }
 }
