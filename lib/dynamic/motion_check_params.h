@@ -1,0 +1,71 @@
+#pragma once
+// Parameters of the geometric motion check (motion_check.h): LK tracking,
+// the motion fit and point tests (motion_geometry.h), and the mask grown from
+// the moving points (motion_mask.h). One struct, since the configuration's
+// dynamic.motion_check section sets all three.
+#include "dynamic/depth_masks.h"
+
+namespace dynslam {
+
+struct MotionCheckParams {
+  // --- Lucas-Kanade tracking
+  int lk_window = 11;    ///< square window (px of the LK image, see lk_downsample)
+  int lk_max_level = 2;  ///< pyramid levels above the image (2 = 3 levels)
+  int lk_iterations = 30;
+  float fb_max_error = 1.0f;  ///< forward-backward round trip must return within (px, full resolution)
+  /// LK runs on the image shrunk by this factor (1 or 2); lk_window is in
+  /// pixels of that image.
+  int lk_downsample = 2;
+  // --- geometry
+  float epipolar_threshold_px = 1.0f;  ///< sigma of the epipolar test
+  /// (The epipolar test judges only the points the reprojection test cannot:
+  /// no depth or no pose.) Fit F also when the PnP pose succeeded (only
+  /// needed for points without depth); false saves the F RANSAC.
+  bool fundamental_with_pose = true;
+  float reprojection_threshold_px = 3.0f;  ///< depth-backed reprojection test
+  /// Per frame, each threshold is raised to k x the robust residual sigma of
+  /// the fit points (blurred / rolling-shutter frames); 0 = fixed thresholds.
+  float adaptive_threshold_k = 3.0f;
+  /// Relative disagreement between the predicted depth of a point and the
+  /// depth measured at its tracked position (motion along the viewing ray);
+  /// 0 disables. Kept loose: Kinect depth is noisy.
+  float depth_tolerance = 0.15f;
+  /// Back-projection skips pixels whose 3x3 depth neighbourhood spans more
+  /// than this fraction (depth edges: foreground or background?).
+  float depth_edge_ratio = 0.05f;
+  int min_static_points = 20;  ///< below: fit on all points
+  /// With a known camera motion (classifyMotion's `known`): points within
+  /// this reprojection distance (px) of it refine it and give the residual
+  /// scale of the adaptive thresholds (points without depth: within this x
+  /// epipolar_threshold_px / reprojection_threshold_px of their epipolar line).
+  float known_motion_gate_px = 3.0f;
+  double ransac_confidence = 0.99;
+  int pnp_iterations = 100;
+  float pnp_inlier_px = 2.0f;         ///< RANSAC PnP inlier threshold
+  float min_pnp_inlier_ratio = 0.3f;  ///< else the pose is not used at all
+  /// A frame whose pose explains fewer than this share of the fit points
+  /// with depth is "unreliable" (strong blur, rolling-shutter skew)...
+  float reliable_inlier_ratio = 0.5f;
+  /// ...and then flags nothing (its verdicts are mostly noise: on fr1_rpy
+  /// 30-60 % of static points in such frames).
+  // --- mask
+  RegionGrowParams grow;
+  // (Region growing from a point inside a dynamic box stays in that box.)
+  /// A grown region is dynamic when at least this share of the tracked
+  /// points inside it (and grow.min_seeds of them) failed the tests.
+  float region_min_dynamic_ratio = 0.4f;
+  // (Flags are never cleared by the vote: people touching furniture share a
+  // depth region with it, and the vote then fails although their own points
+  // did move. Each grown region is cut down to the pixels closer to a moving
+  // tracked point than to a static one: regions leak into furniture a
+  // person touches.)
+  /// Region pixels farther than this (px) from every
+  /// moving or carried point are cut (regions leak along floors, desks and
+  /// walls the person touches); 0 = no limit.
+  float max_seed_distance_px = 80.f;
+  /// Region growing and carving run on a grid this many times coarser than
+  /// the image (2: 4x cheaper; the mask is upsampled to full size).
+  int mask_downsample = 2;
+};
+
+}  // namespace dynslam

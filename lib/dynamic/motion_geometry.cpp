@@ -1,0 +1,291 @@
+#include "dynamic/motion_geometry.h"
+
+#include <opencv2/calib3d.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+namespace dynslam {
+namespace {
+
+constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
+
+bool inDynamicBox(const cv::Point2f& p, const std::vector<Detection>& boxes) {
+  for (const auto& b : boxes)
+    if (b.dynamic_class && b.box.contains(p)) return true;
+  return false;
+}
+
+// Refines (rvec, tvec) by Levenberg-Marquardt on the selected
+// correspondences and stores it in r as R, t.
+void refinePose(const std::vector<cv::Point3f>& obj, const std::vector<cv::Point2f>& img,
+                const std::vector<int>& selected, const cv::Matx33d& K, cv::Mat& rvec,
+                cv::Mat& tvec, GeometryResult& r) {
+  std::vector<cv::Point3f> oi;
+  std::vector<cv::Point2f> ii;
+  for (int k : selected) {
+    oi.push_back(obj[k]);
+    ii.push_back(img[k]);
+  }
+  cv::solvePnPRefineLM(oi, ii, K, cv::noArray(), rvec, tvec);
+  cv::Mat Rm;
+  cv::Rodrigues(rvec, Rm);
+  r.R = cv::Matx33d(Rm);
+  r.t = cv::Vec3d(tvec.at<double>(0), tvec.at<double>(1), tvec.at<double>(2));
+}
+
+}  // namespace
+
+GeometryResult classifyMotion(const Correspondences& c, const cv::Matx33d& K,
+                              const MotionCheckParams& params, const CameraMotion* known) {
+  const std::size_t n = c.prev.size();
+  CV_Assert(c.cur.size() == n);
+  CV_Assert(c.prev_xyz.empty() || c.prev_xyz.size() == n);
+  CV_Assert(c.cur_depth.empty() || c.cur_depth.size() == n);
+  CV_Assert(c.in_dynamic_box.empty() || c.in_dynamic_box.size() == n);
+  GeometryResult r;
+  r.dynamic.assign(n, 0);
+  r.epipolar_error.assign(n, kNaN);
+  r.reprojection_error.assign(n, kNaN);
+  r.depth_error.assign(n, kNaN);
+
+  // Points the camera motion is fitted on: outside dynamic boxes, or all.
+  std::vector<int> fit;
+  for (std::size_t i = 0; i < n; ++i)
+    if (c.in_dynamic_box.empty() || !c.in_dynamic_box[i]) fit.push_back(int(i));
+  if (int(fit.size()) < params.min_static_points) {
+    fit.resize(n);
+    for (std::size_t i = 0; i < n; ++i) fit[i] = int(i);
+  }
+  r.fit_points = int(fit.size());
+
+  // --- Depth-backed reprojection test (catches motion along epipolar lines).
+  // Residual of point i under (R, t): pixel distance of the moved previous
+  // 3D point from where it was tracked.
+  auto residual = [&](const cv::Matx33d& R, const cv::Vec3d& t, std::size_t i) {
+    const cv::Point3f& X = c.prev_xyz[i];
+    const cv::Vec3d Xc = R * cv::Vec3d(X.x, X.y, X.z) + t;
+    if (Xc[2] <= 1e-6) return std::numeric_limits<float>::infinity();
+    const double u = K(0, 0) * Xc[0] / Xc[2] + K(0, 2);
+    const double v = K(1, 1) * Xc[1] / Xc[2] + K(1, 2);
+    return float(std::hypot(u - c.cur[i].x, v - c.cur[i].y));
+  };
+  // Fit points that give the thresholds their residual scale (all of them,
+  // or with a known motion those it explains; set below).
+  std::vector<int> scale_set = fit;
+  if (known) {
+    r.R = known->R;
+    r.t = known->t;
+  }
+  if (!c.prev_xyz.empty()) {
+    std::vector<cv::Point3f> obj;
+    std::vector<cv::Point2f> img;
+    std::vector<int> obj_index;
+    for (int i : fit)
+      if (c.prev_xyz[i].z > 0) {
+        obj.push_back(c.prev_xyz[i]);
+        img.push_back(c.cur[i]);
+        obj_index.push_back(i);
+      }
+    r.pose_candidates = int(obj.size());
+    if (known) {
+      // The known motion comes from the map, not from these tracks: refine
+      // it on the points it explains (rolling shutter and depth timing
+      // shift the tracks by a pixel or so), never replace it.
+      std::vector<int> explained;
+      for (std::size_t k = 0; k < obj.size(); ++k)
+        if (residual(known->R, known->t, std::size_t(obj_index[k])) < params.known_motion_gate_px)
+          explained.push_back(int(k));
+      if (explained.size() >= 6) {
+        cv::Mat rvec, tvec = (cv::Mat_<double>(3, 1) << known->t[0], known->t[1], known->t[2]);
+        cv::Rodrigues(cv::Mat(known->R), rvec);
+        refinePose(obj, img, explained, K, rvec, tvec, r);
+      }
+      r.has_pose = true;  // pose_inliers: counted from the residuals below
+    } else if (obj.size() >= 6) {
+      cv::Mat rvec, tvec;
+      std::vector<int> inliers;
+      const bool ok = cv::solvePnPRansac(obj, img, K, cv::noArray(), rvec, tvec, false,
+                                         params.pnp_iterations, params.pnp_inlier_px,
+                                         params.ransac_confidence, inliers, cv::SOLVEPNP_AP3P);
+      if (ok && inliers.size() >= 6 && inliers.size() >= params.min_pnp_inlier_ratio * obj.size()) {
+        refinePose(obj, img, inliers, K, rvec, tvec, r);
+        r.has_pose = true;
+        r.pose_inliers = int(inliers.size());
+      }
+    }
+    if (r.has_pose) {
+      for (std::size_t i = 0; i < n; ++i) {
+        if (c.prev_xyz[i].z <= 0) continue;
+        r.reprojection_error[i] = residual(r.R, r.t, i);
+        if (!std::isfinite(r.reprojection_error[i]) || c.cur_depth.empty() || c.cur_depth[i] <= 0)
+          continue;
+        const cv::Point3f& X = c.prev_xyz[i];
+        const double z = (r.R * cv::Vec3d(X.x, X.y, X.z) + r.t)[2];
+        r.depth_error[i] = float(std::abs(c.cur_depth[i] - z) / z);
+      }
+      if (known)
+        for (int i : obj_index) r.pose_inliers += r.reprojection_error[i] < params.pnp_inlier_px;
+    }
+  }
+
+  // --- Epipolar test.
+  // Only needed for points without depth or pose (see fundamental_with_pose).
+  // Without F, points lacking depth are judged by the region mask alone.
+  // A known motion gives F directly (none when it is a pure rotation).
+  const bool need_f = params.fundamental_with_pose || !r.has_pose;
+  if (known && need_f) {
+    if (cv::norm(r.t) > 1e-3) {
+      const cv::Matx33d tx(0, -r.t[2], r.t[1], r.t[2], 0, -r.t[0], -r.t[1], r.t[0], 0);
+      const cv::Matx33d Ki = K.inv();
+      r.F = Ki.t() * tx * r.R * Ki;
+      r.has_fundamental = true;
+    }
+  } else if (need_f && fit.size() >= 8) {
+    std::vector<cv::Point2f> a, b;
+    a.reserve(fit.size());
+    b.reserve(fit.size());
+    for (int i : fit) {
+      a.push_back(c.prev[i]);
+      b.push_back(c.cur[i]);
+    }
+    cv::Mat F = cv::findFundamentalMat(a, b, cv::FM_RANSAC, params.epipolar_threshold_px,
+                                       params.ransac_confidence);
+    if (F.rows == 3 && F.cols == 3) {
+      r.has_fundamental = true;
+      r.F = cv::Matx33d(F);
+    }
+  }
+  if (r.has_fundamental)
+    for (std::size_t i = 0; i < n; ++i) {
+      const cv::Vec3d l = r.F * cv::Vec3d(c.prev[i].x, c.prev[i].y, 1.0);
+      const double norm = std::sqrt(l[0] * l[0] + l[1] * l[1]);
+      if (norm > 0)
+        r.epipolar_error[i] = float(std::abs(l[0] * c.cur[i].x + l[1] * c.cur[i].y + l[2]) / norm);
+    }
+  if (known) {
+    // The residual scale comes from the points the known motion explains:
+    // by reprojection where there is depth, else by the epipolar distance.
+    // The gate scales with the thresholds for the (one-dimensional)
+    // epipolar distance.
+    const float epi_gate = params.known_motion_gate_px * params.epipolar_threshold_px /
+                           std::max(1e-3f, params.reprojection_threshold_px);
+    scale_set.clear();
+    for (int i : fit) {
+      const bool explained = std::isnan(r.reprojection_error[i])
+                                 ? r.epipolar_error[i] < epi_gate
+                                 : r.reprojection_error[i] < params.known_motion_gate_px;
+      if (explained) scale_set.push_back(i);
+    }
+  }
+
+  // Per-frame thresholds: at least the configured ones, but grown with the
+  // robust residual scale of the fit set, because blur and the rolling
+  // shutter of fast rotations (fr1_rpy) inflate every residual of a frame.
+  r.epipolar_threshold = params.epipolar_threshold_px;
+  r.reprojection_threshold = params.reprojection_threshold_px;
+  if (params.adaptive_threshold_k > 0) {
+    auto median = [&](const std::vector<float>& e) {
+      std::vector<float> v;
+      v.reserve(scale_set.size());
+      for (int i : scale_set)
+        if (std::isfinite(e[i])) v.push_back(e[i]);
+      if (v.empty()) return 0.f;
+      std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+      return v[v.size() / 2];
+    };
+    // |N(0, s)| has median 0.6745 s; a 2D residual (Rayleigh) 1.1774 s.
+    r.epipolar_threshold = std::max(
+        r.epipolar_threshold, params.adaptive_threshold_k * median(r.epipolar_error) / 0.6745f);
+    r.reprojection_threshold =
+        std::max(r.reprojection_threshold,
+                 params.adaptive_threshold_k * median(r.reprojection_error) / 1.1774f);
+  }
+
+  // A pose that explains only a small share of the presumably static points
+  // means the frame is blurred / rolling-shutter-skewed beyond the rigid
+  // model: its per-point verdicts are mostly noise.
+  r.reliable = known ? true
+              : r.has_pose ? r.pose_inliers >= params.reliable_inlier_ratio * r.pose_candidates
+                           : r.has_fundamental;
+  if (!r.reliable) return r;
+
+  for (std::size_t i = 0; i < n; ++i) {
+    // NaN compares false: an unavailable test never flags a point.
+    // The reprojection error is the full 2D residual (it contains the
+    // epipolar distance), so where it exists the epipolar test only adds
+    // noise; it is the fallback for points without depth or pose.
+    const bool has_rep = !std::isnan(r.reprojection_error[i]);
+    const bool epi = !has_rep && r.epipolar_error[i] > r.epipolar_threshold;
+    const bool rep = has_rep && r.reprojection_error[i] > r.reprojection_threshold;
+    const bool dep = params.depth_tolerance > 0 && r.depth_error[i] > params.depth_tolerance;
+    r.dynamic[i] = (epi || rep || dep) ? 1 : 0;
+  }
+  return r;
+}
+
+namespace {
+
+// Back-projects pixel p of `depth` (raw units), whose undistorted position is
+// `undist`, into the camera frame; z = 0
+// when there is no depth or p sits on a depth edge (3x3 spread too large).
+cv::Point3f backProject(const cv::Mat& depth, const cv::Point2f& p, const cv::Point2f& undist,
+                        const PinholeCamera& cam, float edge_ratio) {
+  const int x = int(std::lround(p.x)), y = int(std::lround(p.y));
+  if (x < 1 || y < 1 || x >= depth.cols - 1 || y >= depth.rows - 1) return {0, 0, 0};
+  const uint16_t z = depth.at<uint16_t>(y, x);
+  if (!z) return {0, 0, 0};
+  uint16_t lo = z, hi = z;
+  for (int dy = -1; dy <= 1; ++dy) {
+    const uint16_t* row = depth.ptr<uint16_t>(y + dy);
+    for (int dx = -1; dx <= 1; ++dx) {
+      const uint16_t v = row[x + dx];
+      if (!v) return {0, 0, 0};
+      lo = std::min(lo, v);
+      hi = std::max(hi, v);
+    }
+  }
+  if (hi - lo > edge_ratio * z) return {0, 0, 0};
+  const float Z = float(z / cam.depth_scale);
+  return {float((undist.x - cam.cx) * Z / cam.fx), float((undist.y - cam.cy) * Z / cam.fy), Z};
+}
+
+}  // namespace
+
+Correspondences buildCorrespondences(const std::vector<cv::Point2f>& prev_points,
+                                     const std::vector<cv::Point2f>& cur_points,
+                                     const cv::Mat& prev_depth, const cv::Mat& cur_depth,
+                                     const PinholeCamera& camera,
+                                     const std::vector<Detection>& boxes, float depth_edge_ratio) {
+  CV_Assert(prev_points.size() == cur_points.size());
+  const std::size_t m = prev_points.size();
+  Correspondences c;
+  c.prev = prev_points;
+  c.cur = cur_points;
+  c.in_dynamic_box.resize(m);
+  for (std::size_t k = 0; k < m; ++k)
+    c.in_dynamic_box[k] = inDynamicBox(prev_points[k], boxes) || inDynamicBox(cur_points[k], boxes);
+  // Geometry runs on undistorted pixels (TUM fr1/fr2 images are distorted);
+  // depth is still read at the raw pixel it was registered to.
+  if (camera.hasDistortion() && m > 0) {
+    const cv::Matx33d K(camera.fx, 0, camera.cx, 0, camera.fy, camera.cy, 0, 0, 1);
+    const cv::Mat dist(1, 5, CV_64F, const_cast<double*>(camera.dist.data()));
+    cv::undistortPoints(prev_points, c.prev, K, dist, cv::noArray(), K);
+    cv::undistortPoints(cur_points, c.cur, K, dist, cv::noArray(), K);
+  }
+  if (!prev_depth.empty() && !cur_depth.empty()) {
+    CV_Assert(prev_depth.type() == CV_16UC1 && cur_depth.type() == CV_16UC1);
+    c.prev_xyz.resize(m);
+    c.cur_depth.resize(m);
+    for (std::size_t k = 0; k < m; ++k) {
+      c.prev_xyz[k] = backProject(prev_depth, prev_points[k], c.prev[k], camera, depth_edge_ratio);
+      c.cur_depth[k] = backProject(cur_depth, cur_points[k], c.cur[k], camera, depth_edge_ratio).z;
+    }
+  }
+  return c;
+}
+
+}  // namespace dynslam
