@@ -490,20 +490,22 @@ namespace {
 // ill-conditioned), and how many frames that was.
 std::pair<double, std::size_t> worstErrorBetween(const dynslam::Trajectory& est, double t0,
                                                  double t1) {
+  // Groundtruth poses paired with the estimate's as the ATE pairs them
+  // (associate.py); only the pairing is used, not the ATE's alignment.
   const dynslam::Trajectory gt = groundtruth();
-  auto nearestGt = [&](double t) {
-    return std::min_element(gt.begin(), gt.end(), [&](const auto& a, const auto& b) {
-             return std::abs(a.timestamp - t) < std::abs(b.timestamp - t);
-           })->pose;
-  };
-  if (est.empty()) return {1e9, 0};
-  const mrpt::poses::CPose3D gt0 = nearestGt(est.front().timestamp);
+  const dynslam::AteResult ate = dynslam::computeAte(gt, est);
+  std::vector<const mrpt::poses::CPose3D*> gt_of(est.size(), nullptr);
+  for (const auto& [g, e] : ate.matches) gt_of[e] = &gt[g].pose;
+  if (est.empty() || !gt_of[0]) return {1e9, 0};
+  const mrpt::poses::CPose3D gt0 = *gt_of[0];
   double worst = 0;
   std::size_t n = 0;
-  for (const auto& p : est) {
+  for (std::size_t i = 0; i < est.size(); ++i) {
+    const auto& p = est[i];
     if (p.timestamp < t0 || p.timestamp >= t1) continue;
+    if (!gt_of[i]) return {1e9, n};  // every frame has groundtruth on fr1_rpy
     const mrpt::poses::CPose3D w = gt0 + p.pose;
-    const mrpt::poses::CPose3D q = nearestGt(p.timestamp);
+    const mrpt::poses::CPose3D& q = *gt_of[i];
     worst = std::max(worst, std::hypot(w.x() - q.x(), w.y() - q.y(), w.z() - q.z()));
     ++n;
   }
