@@ -41,8 +41,15 @@ void InterruptGuard::throwIfInterrupted() {
   if (const int s = g_signal.load()) throw Interrupted(s);
 }
 
+namespace {
+std::string signalName(int signal) {
+  if (signal == SIGINT) return "SIGINT";
+  if (signal == SIGTERM) return "SIGTERM";
+  return "signal " + std::to_string(signal);
+}
+}  // namespace
+
 Interrupted::Interrupted(int signal)
-    : std::runtime_error(std::string("interrupted by ") + (signal == SIGINT ? "SIGINT" : signal == SIGTERM ? "SIGTERM" : "signal " + std::to_string(signal))),
-      signal_(signal) {}
+    : std::runtime_error("interrupted by " + signalName(signal)), signal_(signal) {}
 
 }  // namespace dynslam

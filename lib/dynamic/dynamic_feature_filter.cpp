@@ -109,7 +109,7 @@ cv::Mat DynamicFeatureFilter::prepare(const RGBDFrame& frame, const cv::Mat& gra
   // Detector boxes carried to this frame, and their depth mask.
   t0 = cv::getTickCount();
   boxes_now_.clear();
-  if (p_.use_detector) {
+  if (detector_) {
     if (have_flow) {
       FlowStep step;
       step.to_frame = frame_;
@@ -124,7 +124,7 @@ cv::Mat DynamicFeatureFilter::prepare(const RGBDFrame& frame, const cv::Mat& gra
     }
     std::vector<Detection> dets;
     long det_frame = -1;
-    if (detector_ && detector_->take(dets, det_frame)) carrier_.addDetections(det_frame, dets);
+    if (detector_->take(dets, det_frame)) carrier_.addDetections(det_frame, dets);
     boxes_now_ = carrier_.boxes();
   }
   double ms_boxes = msSince(t0);

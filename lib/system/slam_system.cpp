@@ -80,13 +80,13 @@ FrameOutcome SlamSystem::process(const RGBDFrame& frame) {
     bool changed = false;
     if (preprocessor_) {
       std::vector<uint8_t> before = feats->dynamic;
-      TrackedPose tp;
-      tp.has_pose = pose.has_pose;
+      TrackedPose tracked;
+      tracked.has_pose = pose.has_pose;
       if (pose.has_pose) {
-        tp.pose_wc = toMatx(pose.pose_wc);
-        tp.map_inliers = tracker_->currentMapInliers();
+        tracked.pose_wc = toMatx(pose.pose_wc);
+        tracked.map_inliers = tracker_->currentMapInliers();
       }
-      if (preprocessor_->frameTracked(frame.index, tp, feats->dynamic)) {
+      if (preprocessor_->frameTracked(frame.index, tracked, feats->dynamic)) {
         out.dynamic_before_tracking = std::move(before);
         feats->buildGrids();
         changed = true;
