@@ -15,6 +15,7 @@
 #include "cli/commands.h"
 #include "core/atomic_file.h"
 #include "core/progress.h"
+#include "core/timing.h"
 #include "place/orb_vocabulary.h"
 #include "place/training_images.h"
 #include "place/vocabulary_trainer.h"
@@ -27,10 +28,6 @@ constexpr const char* kUsageText =
     "                           [--max-features 1000] [--iterations 10] [--seed 1]\n"
     "       dynslam vocab info FILE\n"
     "       dynslam vocab (train|info) --help\n";
-
-double secondsSince(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
 
 /// Fails before minutes of training, not after.
 void checkOutputFolder(const std::string& out) {
@@ -84,7 +81,7 @@ int trainMain(int argc, char** argv) {
   const std::vector<std::string> images =
       listTrainingImages(inputs_arg.getValue(), stride_arg.getValue());
 
-  auto t0 = std::chrono::steady_clock::now();
+  auto t0 = SteadyClock::now();
   OrbParams orb;
   orb.n_features = features_arg.getValue();
   ProgressLine extract_progress("extracting ORB, image", images.size());
@@ -102,7 +99,7 @@ int trainMain(int argc, char** argv) {
   params.seed = seed_arg.getValue();
   std::string note = "dynslam vocab train";
   for (int i = 1; i < argc; ++i) note += std::string(" ") + argv[i];
-  t0 = std::chrono::steady_clock::now();
+  t0 = SteadyClock::now();
   ProgressLine train_progress("training, descriptors placed", n_descriptors);
   const OrbVocabulary voc = trainVocabulary(
       descriptors, params, note,
@@ -126,7 +123,7 @@ int infoMain(int argc, char** argv) {
   int exit_code = kOk;
   if (!parseArguments(cmd, argc, argv, exit_code)) return exit_code;
   const std::string path = file_arg.getValue();
-  const auto t0 = std::chrono::steady_clock::now();
+  const auto t0 = SteadyClock::now();
   const OrbVocabulary voc = OrbVocabulary::load(path);
   const double load_ms = secondsSince(t0) * 1e3;
   std::printf("%s\n  branching k   %d\n  levels L      %d\n  nodes         %zu\n"

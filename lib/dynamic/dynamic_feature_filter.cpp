@@ -8,13 +8,10 @@
 #include <cstdio>
 #include <cstdlib>
 
+#include "core/timing.h"
+
 namespace dynslam {
 namespace {
-
-double msSince(int64 t0) {
-  return double(cv::getTickCount() - t0) * 1000.0 / cv::getTickFrequency();
-}
-
 // Share of the map's keypoints (map_inlier[i], where valid[i]; valid may be
 // empty: all) that `flags` marks dynamic; NaN without any, so that every
 // comparison with a bound is false.
@@ -85,7 +82,7 @@ void DynamicFeatureFilter::selectFlowPoints(const std::vector<cv::KeyPoint>& key
 }
 
 cv::Mat DynamicFeatureFilter::prepare(const RGBDFrame& frame, const cv::Mat& gray) {
-  const int64 t_all = cv::getTickCount();
+  const auto t_all = SteadyClock::now();
   ++frame_;
   prepared_frame_ = frame_;
   mask_ = cv::Mat::zeros(gray.size(), CV_8UC1);
@@ -93,13 +90,13 @@ cv::Mat DynamicFeatureFilter::prepare(const RGBDFrame& frame, const cv::Mat& gra
 
   // Pyramid of this frame (the pipeline reuses its grey buffer: keep a copy);
   // both cues need the LK flow (the boxes are carried by it).
-  int64 t0 = cv::getTickCount();
+  auto t0 = SteadyClock::now();
   MotionFrame& cur = cur_;
   cur = motion_.makeFrame(gray.clone(), frame.depth);
   times_["pyramid"].push_back(msSince(t0));
 
   // LK of the previous frame's selected keypoints.
-  t0 = cv::getTickCount();
+  t0 = SteadyClock::now();
   std::vector<uint8_t> tracked;
   std::vector<cv::Point2f> cur_points;
   const bool have_flow = have_prev_ && !prev_points_.empty();
@@ -107,7 +104,7 @@ cv::Mat DynamicFeatureFilter::prepare(const RGBDFrame& frame, const cv::Mat& gra
   times_["lk"].push_back(msSince(t0));
 
   // Detector boxes carried to this frame, and their depth mask.
-  t0 = cv::getTickCount();
+  t0 = SteadyClock::now();
   boxes_now_.clear();
   if (detector_) {
     if (have_flow) {
@@ -154,7 +151,7 @@ cv::Mat DynamicFeatureFilter::prepare(const RGBDFrame& frame, const cv::Mat& gra
         if (tracked[i] && fit.dynamic[i]) pre.moving.push_back(cur_points[i]);
     }
   }
-  t0 = cv::getTickCount();
+  t0 = SteadyClock::now();
   cv::Mat box_mask = boxMask(frame, pre.moving);
   times_["boxes"].push_back(ms_boxes + msSince(t0));
   buildMask(pre, box_mask);
@@ -185,7 +182,7 @@ void DynamicFeatureFilter::process(const RGBDFrame&, const cv::Mat&,
                                    std::vector<uint8_t>& dynamic) {
   if (prepared_frame_ != frame_ || frame_ < 0)
     throw std::logic_error("DynamicFeatureFilter::process: prepare() the frame first");
-  const int64 t0 = cv::getTickCount();
+  const auto t0 = SteadyClock::now();
   prepared_frame_ = -1;
   std::fill(dynamic.begin(), dynamic.end(), 0);
   const std::size_t flagged = flagOnMask(keypoints, dynamic);
@@ -272,7 +269,7 @@ void DynamicFeatureFilter::collectMoving(MotionEvidence& ev,
 bool DynamicFeatureFilter::judge(const cv::Matx44d& prev_pose_wc, const TrackedPose& pose,
                                  std::vector<uint8_t>& dynamic) {
   Judgement& j = judge_;
-  const int64 t0 = cv::getTickCount();
+  const auto t0 = SteadyClock::now();
   // Previous camera -> current camera, from the tracker.
   const cv::Matx44d rel = pose.pose_wc.inv() * prev_pose_wc;
   CameraMotion known;

@@ -1,5 +1,6 @@
 #include "dynamic/motion_check.h"
 
+#include "core/timing.h"
 #include "dynamic/motion_mask.h"
 
 #include <opencv2/calib3d.hpp>
@@ -12,14 +13,6 @@
 #include <stdexcept>
 
 namespace dynslam {
-namespace {
-
-double msSince(int64 t0) {
-  return double(cv::getTickCount() - t0) * 1000.0 / cv::getTickFrequency();
-}
-
-}  // namespace
-
 MotionConsistencyCheck::MotionConsistencyCheck(const MotionCheckParams& params)
     : params_(params), grower_(params.grow) {}
 
@@ -100,7 +93,7 @@ MotionResult MotionConsistencyCheck::check(const MotionFrame& prev, const Motion
     res.mask = cv::Mat(cur.gray.size(), CV_8U, cv::Scalar(0));
     return res;
   }
-  const int64 t0 = cv::getTickCount();
+  const auto t0 = SteadyClock::now();
   std::vector<uint8_t> tracked;
   const std::vector<cv::Point2f> cur_points = track(prev, cur, prev_points, tracked);
   const double ms_track = msSince(t0);
@@ -131,7 +124,7 @@ MotionResult MotionConsistencyCheck::classify(
     if (res.tracked[i]) res.tracked_index.push_back(int(i));
 
   // --- Geometry.
-  int64 t0 = cv::getTickCount();
+  auto t0 = SteadyClock::now();
   const std::size_t m = res.tracked_index.size();
   std::vector<cv::Point2f> raw_prev(m), raw_cur(m);
   for (std::size_t k = 0; k < m; ++k) {
@@ -169,7 +162,7 @@ MotionResult MotionConsistencyCheck::classify(
 
   // --- Grow the moving points into their objects (on a grid `ds` times
   // coarser than the image: the mask is for culling, 2 px steps are plenty).
-  t0 = cv::getTickCount();
+  t0 = SteadyClock::now();
   // In an unreliable frame (blur, rolling shutter) the carried seeds are LK
   // tracks through the same blur: no regions are grown from them.
   if (!res.geometry.reliable) seeds.clear();

@@ -14,6 +14,7 @@
 #include <stdexcept>
 
 #include "core/errors.h"
+#include "core/timing.h"
 
 namespace dynslam {
 namespace fs = std::filesystem;
@@ -370,10 +371,10 @@ std::vector<Detection> YoloDetector::detect(const cv::Mat& bgr) {
     throw std::invalid_argument("YoloDetector::detect: expected a BGR CV_8UC3 image");
   prepareInput(bgr);
 
-  const int64 t0 = cv::getTickCount();
+  const auto t0 = SteadyClock::now();
   net_.setInput(blob_);
   net_.forward(outputs_, net_.getUnconnectedOutLayersNames());
-  last_forward_ms_ = double(cv::getTickCount() - t0) * 1000.0 / cv::getTickFrequency();
+  last_forward_ms_ = msSince(t0);
 
   std::vector<cv::Rect2f> boxes;
   std::vector<float> scores;

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <cstdlib>
 
+#include "core/timing.h"
 #include "mapping/map_ba_problem.h"
 
 namespace dynslam::loop {
@@ -15,9 +16,6 @@ namespace {
 // DYNSLAM_DEBUG_LOOP=1 prints candidates and verifications on stderr.
 const bool kDebug = std::getenv("DYNSLAM_DEBUG_LOOP") != nullptr;
 
-double msSince(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-}
 }  // namespace
 
 LoopClosing::LoopClosing(Map& map, LocalMapper& mapper,
@@ -82,7 +80,7 @@ LoopClosingStats LoopClosing::stats() const {
 }
 
 void LoopClosing::process(KeyFrame* kf) {
-  const auto t0 = std::chrono::steady_clock::now();
+  const auto t0 = SteadyClock::now();
   BowVector bow;
   if (!db_.bowOf(kf, bow)) return;  // culled meanwhile
   std::vector<KeyFrame*> candidates = consistentCandidates(kf, bow);
@@ -142,7 +140,7 @@ std::vector<KeyFrame*> LoopClosing::consistentCandidates(KeyFrame* kf, const Bow
 }
 
 bool LoopClosing::verifyAndClose(KeyFrame* kf, KeyFrame* cand) {
-  const auto t0 = std::chrono::steady_clock::now();
+  const auto t0 = SteadyClock::now();
   // Match the two keyframes' map points by descriptor (best vs second best).
   std::vector<PointCorrespondence> corr;
   std::vector<std::pair<int, MapPoint*>> corr_refs;  // current keypoint, loop point

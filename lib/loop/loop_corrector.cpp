@@ -6,18 +6,13 @@
 #include <mutex>
 #include <set>
 
+#include "core/timing.h"
 #include "loop/essential_graph.h"
 #include "loop/pose_graph.h"
 
 namespace dynslam::loop {
 
 namespace {
-
-using Clock = std::chrono::steady_clock;
-
-double msSince(Clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-}
 
 /// The world-frame motion taking a keyframe from pose `from` to pose `to`,
 /// applied to points rigidly attached to it: x -> to * from^-1 * x.
@@ -54,7 +49,7 @@ bool LoopCorrector::inLoopEdge(const KeyFrame* kf) const {
 
 LoopCorrectionStats LoopCorrector::correct(const LoopClosure& lc) {
   LoopCorrectionStats st;
-  const auto t0 = Clock::now();
+  const auto t0 = SteadyClock::now();
   KeyFrame* cur = lc.current;
   KeyFrame* loop_kf = lc.loop;
   if (!cur || !loop_kf || cur == loop_kf) return st;

@@ -7,6 +7,8 @@
 #include <chrono>
 #include <stdexcept>
 
+#include "core/timing.h"
+
 namespace dynslam::loop {
 
 void PoseGraph::addNode(Id id, const mrpt::poses::CPose3D& T_w) { g_.nodes[id] = T_w; }
@@ -46,7 +48,7 @@ double PoseGraph::squaredError() const {
 
 PoseGraphResult PoseGraph::optimize(int max_iterations) {
   PoseGraphResult r;
-  const auto t0 = std::chrono::steady_clock::now();
+  const auto t0 = SteadyClock::now();
   r.initial_sq_error = r.final_sq_error = squaredError();
   std::set<mrpt::graphs::TNodeID> free;
   for (const auto& [id, p] : g_.nodes)
@@ -66,7 +68,7 @@ PoseGraphResult PoseGraph::optimize(int max_iterations) {
     r.final_sq_error = squaredError();
   }
   r.ok = true;
-  r.time_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  r.time_ms = msSince(t0);
   return r;
 }
 

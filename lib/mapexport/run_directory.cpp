@@ -4,8 +4,6 @@
 
 #include <opencv2/imgcodecs.hpp>
 
-#include <sys/resource.h>
-
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -16,6 +14,7 @@
 #include "core/atomic_file.h"
 #include "core/errors.h"
 #include "core/json_writer.h"
+#include "core/timing.h"
 #include "mapexport/dense_map_config.h"
 #include "mapexport/ply_io.h"
 
@@ -72,12 +71,6 @@ std::string exportReportPath(const std::string& out_path) {
 }
 
 namespace {
-
-double peakRssMb() {
-  rusage ru{};
-  getrusage(RUSAGE_SELF, &ru);
-  return ru.ru_maxrss / 1024.0;  // KiB on Linux
-}
 
 void writeShare(JsonWriter& j, const std::string& key, const MaskShare& s) {
   j.beginObject(key)

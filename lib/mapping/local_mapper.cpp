@@ -1,5 +1,6 @@
 #include "mapping/local_mapper.h"
 
+#include "core/timing.h"
 #include "mapping/map_ba_problem.h"
 
 #include <Eigen/Dense>
@@ -17,9 +18,6 @@ namespace {
 // DYNSLAM_DEBUG_MAPPING=1 prints one line per fusion and BA step on stderr.
 const bool kDebug = std::getenv("DYNSLAM_DEBUG_MAPPING") != nullptr;
 
-double msSince(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-}
 }  // namespace
 
 LocalMapper::LocalMapper(Map& map, const LocalMapperParams& params, bool threaded)
@@ -63,7 +61,7 @@ LocalMapper::Stats LocalMapper::stats() const {
 }
 
 void LocalMapper::processKeyFrame(KeyFrame* kf) {
-  const auto t0 = std::chrono::steady_clock::now();
+  const auto t0 = SteadyClock::now();
   {
     std::lock_guard<std::mutex> lk(map_.mutex());
     addObservations(kf);
@@ -221,7 +219,7 @@ void LocalMapper::fuseWithNeighbours(KeyFrame* kf) {
 }
 
 void LocalMapper::bundleAdjust(KeyFrame* kf) {
-  const auto t0 = std::chrono::steady_clock::now();
+  const auto t0 = SteadyClock::now();
   std::unique_ptr<MapBAProblem> problem;
   {
     std::lock_guard<std::mutex> lk(map_.mutex());

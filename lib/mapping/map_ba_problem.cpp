@@ -5,6 +5,8 @@
 #include <mutex>
 #include <unordered_set>
 
+#include "core/timing.h"
+
 namespace dynslam {
 
 MapBAProblem::MapBAProblem(const std::vector<KeyFrame*>& free_kfs,
@@ -68,7 +70,7 @@ void MapBAProblem::writeBack(const BAResult& res) {
 }
 
 GlobalBAResult globalBundleAdjust(Map& map, const BAParams& params) {
-  const auto t0 = std::chrono::steady_clock::now();
+  const auto t0 = SteadyClock::now();
   GlobalBAResult out;
   std::unique_ptr<MapBAProblem> problem;
   {
@@ -87,7 +89,7 @@ GlobalBAResult globalBundleAdjust(Map& map, const BAParams& params) {
     std::lock_guard<std::mutex> lk(map.mutex());
     problem->writeBack(out.ba);
   }
-  out.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  out.ms = msSince(t0);
   return out;
 }
 

@@ -3,14 +3,15 @@
 #include <chrono>
 #include <stdexcept>
 
+#include "core/timing.h"
+
 namespace dynslam {
 
 namespace {
 std::pair<RGBDFrame, double> timedLoad(const FrameSource& s, std::size_t i) {
-  const auto t0 = std::chrono::steady_clock::now();
+  const auto t0 = SteadyClock::now();
   RGBDFrame f = s.load(i);
-  return {std::move(f), std::chrono::duration<double, std::milli>(
-                            std::chrono::steady_clock::now() - t0).count()};
+  return {std::move(f), msSince(t0)};
 }
 }  // namespace
 

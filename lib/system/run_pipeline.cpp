@@ -1,7 +1,5 @@
 #include "system/run_pipeline.h"
 
-#include <sys/resource.h>
-
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -19,6 +17,7 @@
 #include "core/json_writer.h"
 #include "core/staged_folder.h"
 #include "core/progress.h"
+#include "core/timing.h"
 #include "dynamic/mask_scoring.h"
 #include "rawlog/sequence_source.h"
 #include "system/frame_prefetcher.h"
@@ -27,12 +26,6 @@
 namespace dynslam {
 
 namespace {
-
-double peakRssMb() {
-  struct rusage ru {};
-  getrusage(RUSAGE_SELF, &ru);
-  return ru.ru_maxrss / 1024.0;  // KiB on Linux
-}
 
 void writeStats(JsonWriter& w, const std::string& key, const std::vector<double>& v) {
   const SummaryStats s = summarize(v);
@@ -122,7 +115,7 @@ RunSummary runSlam(const RunOptions& opt) {
   std::vector<std::array<double, 3>> frame_times;  // timestamp, track, frame_total
   std::size_t tracked = 0, lost = 0;
   long first_lost = -1;
-  const auto t0 = std::chrono::steady_clock::now();
+  const auto t0 = SteadyClock::now();
   int interrupted_by = 0;
   for (std::size_t i = 0; i < n; ++i) {
     // Ctrl-C / SIGTERM (InterruptGuard): stop reading, keep what is tracked.
@@ -173,7 +166,7 @@ RunSummary runSlam(const RunOptions& opt) {
     progress.update(i + 1, "kf " + std::to_string(slam.map().keyFrameCount()));
   }
   slam.finish();
-  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const double wall = secondsSince(t0);
   progress.finish();
 
   RunSummary sum;

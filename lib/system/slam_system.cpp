@@ -4,10 +4,12 @@
 
 #include <chrono>
 
+#include "core/timing.h"
+
 namespace dynslam {
 
 namespace {
-using Clock = std::chrono::steady_clock;
+using Clock = SteadyClock;
 double ms(Clock::time_point a, Clock::time_point b) {
   return std::chrono::duration<double, std::milli>(b - a).count();
 }

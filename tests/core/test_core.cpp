@@ -1,6 +1,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
+#include <memory>
+#include <thread>
 #include <fstream>
 
 #include "core/association.h"
@@ -9,6 +12,7 @@
 #include "core/errors.h"
 #include "core/json_writer.h"
 #include "core/stats.h"
+#include "core/timing.h"
 #include "core/trajectory.h"
 #include "testing/test_support.h"
 
@@ -150,4 +154,25 @@ TEST(Camera, BadConfigsAreErrorsNamingTheFile) {
   writeText(d / "c.yaml", "camera: [1, 2\n");
   EXPECT_THROW(loadCameraYaml(d / "c.yaml"), InputError);
   EXPECT_THROW(loadCameraYaml(d / "missing.yaml"), InputError);
+}
+
+// The readings against known quantities: a sleep of 50 ms, and 200 MB that
+// the process has touched (peak memory can only grow by at least that).
+TEST(Timing, MsSinceMeasuresAKnownSleep) {
+  const auto t0 = SteadyClock::now();
+  std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  const double ms = msSince(t0);
+  EXPECT_GE(ms, 50.0);
+  EXPECT_LT(ms, 5000.0);
+  EXPECT_NEAR(secondsSince(t0), ms / 1000.0, 0.5);
+}
+
+TEST(Timing, PeakRssGrowsByTouchedMemory) {
+  const double before = peakRssMb();
+  EXPECT_GT(before, 1.0);
+  const std::size_t n = std::size_t(200) << 20;
+  std::unique_ptr<char[]> block(new char[n]);
+  std::memset(block.get(), 1, n);
+  asm volatile("" : : "r"(block.get()) : "memory");  // the writes are observed: not elided
+  EXPECT_GE(peakRssMb(), before + 190.0);
 }

@@ -1,0 +1,23 @@
+#pragma once
+// Time and memory readings for the per-stage times and peak memory that run
+// reports, export reports and benchmarks print: one monotonic clock and one
+// definition of each reading, so every stage is measured the same way.
+#include <chrono>
+
+namespace dynslam {
+
+using SteadyClock = std::chrono::steady_clock;
+
+/// Milliseconds since t0 (steady clock).
+inline double msSince(SteadyClock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(SteadyClock::now() - t0).count();
+}
+/// Seconds since t0 (steady clock).
+inline double secondsSince(SteadyClock::time_point t0) {
+  return std::chrono::duration<double>(SteadyClock::now() - t0).count();
+}
+
+/// Peak resident set size of this process so far, in MB (getrusage).
+double peakRssMb();
+
+}  // namespace dynslam
