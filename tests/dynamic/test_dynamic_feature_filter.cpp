@@ -361,7 +361,9 @@ TEST(DynamicFeatureFilterTwoPhases, CrowdFillingTheViewIsFlaggedNotTheWalls) {
     ASSERT_GT(after.in_walker, 100);
     ASSERT_GT(after.background, 40);
     EXPECT_TRUE(p.changed);
-    if (k == 2) EXPECT_GT(before.walker_flagged, 0.9 * before.in_walker);  // carried seeds
+    if (k == 2) {
+      EXPECT_GT(before.walker_flagged, 0.9 * before.in_walker);  // carried seeds
+    }
     EXPECT_GT(after.walker_flagged, 0.9 * after.in_walker) << k;
     // (Frame 2: the walls show only in strips 20-40 px wide along the
     // walker's edge, where occlusion spoils a good part of the LK tracks.)
