@@ -17,11 +17,11 @@
 #include "core/work_queue.h"
 #include "loop/loop_corrector.h"
 #include "loop/rigid_aligner.h"
+#include "map/keyframe_interfaces.h"
 #include "mapping/local_mapper.h"
 #include "optim/bundle_adjuster.h"
 #include "place/keyframe_database.h"
 #include "place/orb_vocabulary.h"
-#include "tracking/tracker.h"
 
 namespace dynslam::loop {
 

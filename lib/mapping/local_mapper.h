@@ -9,10 +9,10 @@
 #include <mutex>
 
 #include "core/work_queue.h"
+#include "map/keyframe_interfaces.h"
 #include "map/map.h"
 #include "matching/feature_matcher.h"
 #include "optim/bundle_adjuster.h"
-#include "tracking/tracker.h"
 
 namespace dynslam {
 

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "map/frame.h"
+#include "map/keyframe_interfaces.h"
 #include "map/map.h"
 #include "matching/feature_matcher.h"
 #include "optim/pose_optimizer.h"
@@ -48,25 +49,6 @@ struct TrackerParams {
 };
 
 enum class TrackingState { kNotInitialized, kOk, kLost };
-
-/// Receives new keyframes (the LocalMapper).
-class KeyFrameSink {
- public:
-  virtual ~KeyFrameSink() = default;
-  virtual void insertKeyFrame(KeyFrame* kf) = 0;
-  /// True when the sink can take a keyframe now without queueing.
-  virtual bool idle() const = 0;
-  virtual std::size_t queued() const = 0;
-};
-
-/// Where relocalisation looks first: keyframes that look like the lost frame
-/// (place recognition), best first. The tracker adds the most recent
-/// keyframes itself. Called with the map mutex held.
-class RelocalisationCandidateSource {
- public:
-  virtual ~RelocalisationCandidateSource() = default;
-  virtual std::vector<KeyFrame*> relocalisationCandidates(const FeatureSet& f) = 0;
-};
 
 struct TrackResult {
   TrackingState state = TrackingState::kNotInitialized;
