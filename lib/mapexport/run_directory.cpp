@@ -14,6 +14,7 @@
 #include "core/atomic_file.h"
 #include "core/errors.h"
 #include "core/json_writer.h"
+#include "core/run_layout.h"
 #include "core/timing.h"
 #include "mapexport/dense_map_config.h"
 #include "mapexport/ply_io.h"
@@ -23,9 +24,7 @@ namespace dynslam {
 namespace fs = std::filesystem;
 
 std::string RunDirectory::maskPath(double timestamp) const {
-  char name[64];
-  std::snprintf(name, sizeof(name), "%.6f.png", timestamp);
-  return dir + "/dynamic_masks/" + name;
+  return dynamicMaskPath(dir, timestamp);
 }
 
 RunDirectory readRunDirectory(const std::string& dir) {

@@ -17,6 +17,7 @@
 #include "core/json_writer.h"
 #include "core/staged_folder.h"
 #include "core/progress.h"
+#include "core/run_layout.h"
 #include "core/timing.h"
 #include "dynamic/mask_scoring.h"
 #include "rawlog/sequence_source.h"
@@ -193,13 +194,11 @@ RunSummary runSlam(const RunOptions& opt) {
   });
   if (!keyframe_masks.empty()) {
     // Per-keyframe dynamic pixels, so `dynslam export` leaves movers out.
-    makeDirectories(dir + "/dynamic_masks");
+    makeDirectories(dir + "/" + kDynamicMasksDir);
     for (const auto& [t, mask] : keyframe_masks) {
-      char name[64];
-      std::snprintf(name, sizeof name, "/dynamic_masks/%.6f.png", t);
       std::vector<uint8_t> png;
       cv::imencode(".png", mask, png);
-      writeFileAtomically(dir + name, [&](std::ostream& os) {
+      writeFileAtomically(dynamicMaskPath(dir, t), [&](std::ostream& os) {
         os.write(reinterpret_cast<const char*>(png.data()), static_cast<std::streamsize>(png.size()));
       }, true);
     }

@@ -11,6 +11,7 @@
 #include "core/camera.h"
 #include "core/errors.h"
 #include "core/json_writer.h"
+#include "core/run_layout.h"
 #include "core/stats.h"
 #include "core/timing.h"
 #include "core/trajectory.h"
@@ -175,4 +176,11 @@ TEST(Timing, PeakRssGrowsByTouchedMemory) {
   std::memset(block.get(), 1, n);
   asm volatile("" : : "r"(block.get()) : "memory");  // the writes are observed: not elided
   EXPECT_GE(peakRssMb(), before + 190.0);
+}
+
+// The name `run` writes and `export` reads: TUM timestamps to the microsecond.
+TEST(RunLayout, DynamicMaskPathKeepsSixDecimals) {
+  EXPECT_EQ(dynamicMaskPath("out/run", 1305031229.528748),
+            "out/run/dynamic_masks/1305031229.528748.png");
+  EXPECT_EQ(dynamicMaskPath("r", 12.5), "r/dynamic_masks/12.500000.png");
 }
