@@ -9,6 +9,7 @@
 #include <mrpt/system/datetime.h>
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <map>
 
@@ -40,16 +41,8 @@ std::string findImagesDir(const std::string& rawlog_path) {
 std::string ordinal(std::size_t i) { return "object #" + std::to_string(i + 1); }
 
 PinholeCamera cameraFromScan(const CObservation3DRangeScan& s, const std::string& path) {
-  const auto& c = s.cameraParamsIntensity;
-  PinholeCamera cam;
-  cam.name = c.cameraName.empty() ? fs::path(path).stem().string() : c.cameraName;
-  cam.width = static_cast<int>(c.ncols);
-  cam.height = static_cast<int>(c.nrows);
-  cam.fx = c.fx();
-  cam.fy = c.fy();
-  cam.cx = c.cx();
-  cam.cy = c.cy();
-  for (int i = 0; i < 5; ++i) cam.dist[i] = c.dist[i];
+  PinholeCamera cam = PinholeCamera::fromMrpt(s.cameraParamsIntensity);
+  if (cam.name.empty()) cam.name = fs::path(path).stem().string();
   cam.depth_scale = 0;
   if (s.rangeUnits > 0) {
     cam.depth_scale = 1.0 / static_cast<double>(s.rangeUnits);
@@ -61,9 +54,47 @@ PinholeCamera cameraFromScan(const CObservation3DRangeScan& s, const std::string
   return cam;
 }
 
+std::string className(const mrpt::serialization::CSerializable& obj) {
+  std::string name = obj.GetRuntimeClass()->className;
+  if (const auto k = name.rfind("::"); k != std::string::npos) name = name.substr(k + 2);
+  return name;
+}
+
+struct Scan {
+  std::shared_ptr<CObservation3DRangeScan> obs;
+  std::size_t object = 0;  ///< position in the file, for messages
+};
+
+/// "'KINECT' (80 scans), 'XTION' (80 scans)", in the order of first appearance.
+std::string listSensors(const std::vector<std::string>& labels,
+                        const std::map<std::string, std::vector<Scan>>& by_label) {
+  std::string s;
+  for (const std::string& l : labels)
+    s += (s.empty() ? "'" : ", '") + l + "' (" + std::to_string(by_label.at(l).size()) + " scans)";
+  return s;
+}
+
+/// The label to use: `wanted`, or the only one. UsageError otherwise.
+std::string chooseSensor(const std::string& path, const std::string& wanted,
+                         const std::vector<std::string>& labels,
+                         const std::map<std::string, std::vector<Scan>>& by_label) {
+  if (!wanted.empty()) {
+    if (!by_label.count(wanted))
+      throw UsageError("--sensor " + wanted + ": " + path +
+                       " has no CObservation3DRangeScan of that label; its 3D sensors: " +
+                       listSensors(labels, by_label));
+    return wanted;
+  }
+  if (labels.size() > 1)
+    throw UsageError(path + " holds " + std::to_string(labels.size()) +
+                     " 3D sensors, pick one with --sensor LABEL: " + listSensors(labels, by_label));
+  return labels.front();
+}
+
 }  // namespace
 
-RawlogSource::RawlogSource(const std::string& rawlog_path, const std::string& camera_config)
+RawlogSource::RawlogSource(const std::string& rawlog_path, const std::string& camera_config,
+                           const std::string& sensor)
     : path_(rawlog_path) {
   if (isDirectory(rawlog_path)) throw InputError(rawlog_path, "is a folder, expected a rawlog file");
   if (!fileExists(rawlog_path)) throw InputError(rawlog_path, "rawlog file not found");
@@ -73,20 +104,15 @@ RawlogSource::RawlogSource(const std::string& rawlog_path, const std::string& ca
   if (!file.open(rawlog_path)) throw InputError(rawlog_path, "cannot open rawlog");
   auto in = mrpt::serialization::archiveFrom(file);
 
-  std::map<std::string, std::size_t> ignored;  // class name -> count
+  std::vector<std::string> labels;  // 3D sensors in order of appearance
+  std::map<std::string, std::vector<Scan>> by_label;
   auto take = [&](const mrpt::obs::CObservation::Ptr& obs, std::size_t n) {
     if (auto s = std::dynamic_pointer_cast<CObservation3DRangeScan>(obs)) {
-      if (!s->hasIntensityImage || !s->hasRangeImage) {
-        throw InputError(rawlog_path, ordinal(n) + " (CObservation3DRangeScan '" +
-                                          s->sensorLabel + "') lacks " +
-                                          (s->hasIntensityImage ? "a range (depth) image"
-                                                                : "an intensity (RGB) image"));
-      }
-      scans_.push_back(s);
+      std::vector<Scan>& v = by_label[s->sensorLabel];
+      if (v.empty()) labels.push_back(s->sensorLabel);
+      v.push_back({s, n});
     } else if (obs) {
-      std::string name = obs->GetRuntimeClass()->className;
-      if (const auto k = name.rfind("::"); k != std::string::npos) name = name.substr(k + 2);
-      ++ignored[name];
+      ++skipped_[className(*obs)];  // IMU, plain images, odometry, ...
     }
   };
 
@@ -119,27 +145,44 @@ RawlogSource::RawlogSource(const std::string& rawlog_path, const std::string& ca
     }
   }
 
-  if (scans_.empty()) {
+  if (by_label.empty()) {
     std::string found;
-    for (const auto& [name, count] : ignored)
+    for (const auto& [name, count] : skipped_)
       found += (found.empty() ? "" : ", ") + std::to_string(count) + " " + name;
     throw InputError(rawlog_path, "no CObservation3DRangeScan with RGB and depth in the rawlog" +
                                       (found.empty() ? std::string(" (it is empty)")
                                                      : " (found " + found + ")"));
   }
+  sensor_ = chooseSensor(rawlog_path, sensor, labels, by_label);
+  for (const std::string& l : labels)
+    if (l != sensor_) skipped_["CObservation3DRangeScan '" + l + "'"] = by_label[l].size();
+  for (const Scan& s : by_label[sensor_]) {
+    if (!s.obs->hasIntensityImage || !s.obs->hasRangeImage) {
+      throw InputError(rawlog_path, ordinal(s.object) + " (CObservation3DRangeScan '" +
+                                        sensor_ + "') lacks " +
+                                        (s.obs->hasIntensityImage ? "a range (depth) image"
+                                                                  : "an intensity (RGB) image"));
+    }
+    scans_.push_back(s.obs);
+  }
 
   const PinholeCamera stored = cameraFromScan(*scans_.front(), rawlog_path);
-  if (camera_config.empty()) {
-    camera_ = stored;
-  } else {
-    camera_ = loadCameraYaml(camera_config);
-    if (std::abs(camera_.depth_scale - stored.depth_scale) > 1e-3 * stored.depth_scale) {
-      throw InputError(camera_config,
-                       "depth_scale " + std::to_string(camera_.depth_scale) +
-                           " disagrees with the rawlog's rangeUnits (" +
-                           std::to_string(stored.depth_scale) + " units per metre)");
-    }
-  }
+  camera_ = camera_config.empty() ? stored : loadCameraYaml(camera_config);
+  camera_.depth_scale = stored.depth_scale;  // the rawlog's rangeUnits are authoritative
+  registration_ = DepthRegistration::forScan(*scans_.front(), camera_, rawlog_path);
+}
+
+SourceNotes RawlogSource::notes() const {
+  SourceNotes n;
+  n.sensor = sensor_;
+  n.depth_registered = registration_.has_value();
+  if (registration_) n.depth_registration = registration_->describe();
+  char units[96];
+  std::snprintf(units, sizeof units, "rangeUnits of the rawlog (%g units per metre)",
+                camera_.depth_scale);
+  n.depth_units = units;
+  n.skipped_observations = skipped_;
+  return n;
 }
 
 RawlogSource::~RawlogSource() = default;
@@ -204,6 +247,7 @@ RGBDFrame RawlogSource::load(std::size_t i) const {
     for (int x = 0; x < f.depth.cols; ++x) row[x] = r(y, x);
   }
   s.unload();  // external data is read again on the next load(i)
+  if (registration_) f.depth = registration_->apply(f.depth, f.depth_source);
 
   checkImageSize(f.rgb, camera_, f.rgb_source);
   checkImageSize(f.depth, camera_, f.depth_source);
