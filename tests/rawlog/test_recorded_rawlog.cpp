@@ -155,11 +155,6 @@ double ateOf(const std::string& run_dir) {
   return computeAte(readTumTrajectory(rpyDir() + "/groundtruth.txt"), est).stats.rmse;
 }
 
-mrpt::containers::yaml inputSource(const std::string& run_dir) {
-  const auto report = mrpt::containers::yaml::FromFile(run_dir + "/report.json");
-  return report["input_source"];
-}
-
 }  // namespace
 
 TEST(RecordedRawlog, KinectDepthIsRegisteredToTheRgbCamera) {
@@ -200,7 +195,8 @@ TEST(RecordedRawlog, KinectDepthIsRegisteredToTheRgbCamera) {
                          "--deterministic", "--max-frames", std::to_string(kFrames)});
     ASSERT_EQ(r.exit_code, 0) << r.err;
     ate[s] = ateOf(out);
-    const auto notes = inputSource(out);
+    const auto report = mrpt::containers::yaml::FromFile(out + "/report.json");
+    const auto notes = report["input_source"];  // a view into report
     EXPECT_EQ(notes["sensor"].as<std::string>(), sensors[s]);
     EXPECT_EQ(notes["depth_registered"].as<bool>(), s == 1) << sensors[s];
     const auto skipped = notes["skipped_observations"];
