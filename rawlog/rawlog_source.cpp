@@ -1,23 +1,19 @@
 #include "rawlog/rawlog_source.h"
 
 #include <mrpt/img/CImage.h>
-#include <mrpt/io/CFileGZInputStream.h>
-#include <mrpt/obs/CActionCollection.h>
 #include <mrpt/obs/CObservation3DRangeScan.h>
-#include <mrpt/obs/CSensoryFrame.h>
-#include <mrpt/serialization/CArchive.h>
 #include <mrpt/system/datetime.h>
 
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <map>
 
 #include "core/atomic_file.h"
 #include "core/errors.h"
 #include "core/mrpt_messages.h"
 #include "rawlog/image_checks.h"
 #include "rawlog/mrpt_images_base.h"
+#include "rawlog/rawlog_contents.h"
 #include "rawlog/rawlog_layout.h"
 
 namespace dynslam {
@@ -38,8 +34,6 @@ std::string findImagesDir(const std::string& rawlog_path) {
   return preferred;  // embedded images need none
 }
 
-std::string ordinal(std::size_t i) { return "object #" + std::to_string(i + 1); }
-
 PinholeCamera cameraFromScan(const CObservation3DRangeScan& s, const std::string& path) {
   PinholeCamera cam = PinholeCamera::fromMrpt(s.cameraParamsIntensity);
   if (cam.name.empty()) cam.name = fs::path(path).stem().string();
@@ -54,112 +48,19 @@ PinholeCamera cameraFromScan(const CObservation3DRangeScan& s, const std::string
   return cam;
 }
 
-std::string className(const mrpt::serialization::CSerializable& obj) {
-  std::string name = obj.GetRuntimeClass()->className;
-  if (const auto k = name.rfind("::"); k != std::string::npos) name = name.substr(k + 2);
-  return name;
-}
-
-struct Scan {
-  std::shared_ptr<CObservation3DRangeScan> obs;
-  std::size_t object = 0;  ///< position in the file, for messages
-};
-
-/// "'KINECT' (80 scans), 'XTION' (80 scans)", in the order of first appearance.
-std::string listSensors(const std::vector<std::string>& labels,
-                        const std::map<std::string, std::vector<Scan>>& by_label) {
-  std::string s;
-  for (const std::string& l : labels)
-    s += (s.empty() ? "'" : ", '") + l + "' (" + std::to_string(by_label.at(l).size()) + " scans)";
-  return s;
-}
-
-/// The label to use: `wanted`, or the only one. UsageError otherwise.
-std::string chooseSensor(const std::string& path, const std::string& wanted,
-                         const std::vector<std::string>& labels,
-                         const std::map<std::string, std::vector<Scan>>& by_label) {
-  if (!wanted.empty()) {
-    if (!by_label.count(wanted))
-      throw UsageError("--sensor " + wanted + ": " + path +
-                       " has no CObservation3DRangeScan of that label; its 3D sensors: " +
-                       listSensors(labels, by_label));
-    return wanted;
-  }
-  if (labels.size() > 1)
-    throw UsageError(path + " holds " + std::to_string(labels.size()) +
-                     " 3D sensors, pick one with --sensor LABEL: " + listSensors(labels, by_label));
-  return labels.front();
-}
-
 }  // namespace
 
 RawlogSource::RawlogSource(const std::string& rawlog_path, const std::string& camera_config,
                            const std::string& sensor)
     : path_(rawlog_path) {
-  if (isDirectory(rawlog_path)) throw InputError(rawlog_path, "is a folder, expected a rawlog file");
-  if (!fileExists(rawlog_path)) throw InputError(rawlog_path, "rawlog file not found");
+  const RawlogContents contents(rawlog_path);
   images_dir_ = findImagesDir(rawlog_path);
-
-  mrpt::io::CFileGZInputStream file;
-  if (!file.open(rawlog_path)) throw InputError(rawlog_path, "cannot open rawlog");
-  auto in = mrpt::serialization::archiveFrom(file);
-
-  std::vector<std::string> labels;  // 3D sensors in order of appearance
-  std::map<std::string, std::vector<Scan>> by_label;
-  auto take = [&](const mrpt::obs::CObservation::Ptr& obs, std::size_t n) {
-    if (auto s = std::dynamic_pointer_cast<CObservation3DRangeScan>(obs)) {
-      std::vector<Scan>& v = by_label[s->sensorLabel];
-      if (v.empty()) labels.push_back(s->sensorLabel);
-      v.push_back({s, n});
-    } else if (obs) {
-      ++skipped_[className(*obs)];  // IMU, plain images, odometry, ...
-    }
-  };
-
-  for (std::size_t n = 0;; ++n) {
-    const uint64_t before = file.getPosition();
-    mrpt::serialization::CSerializable::Ptr obj;
-    try {
-      obj = in.ReadObject();
-    } catch (const mrpt::serialization::CExceptionEOF&) {
-      if (file.getPosition() == before) break;  // clean end between objects
-      throw InputError(rawlog_path, "truncated rawlog: " + ordinal(n) + " is incomplete");
-    } catch (const std::exception& e) {
-      // MRPT wraps a short read into a parse error; running out of data is
-      // what tells a truncated file from a corrupt or foreign one.
-      if (file.checkEOF())
-        throw InputError(rawlog_path, "truncated rawlog: " + ordinal(n) + " is incomplete");
-      throw InputError(rawlog_path, "not an MRPT rawlog: " + ordinal(n) +
-                                        " cannot be parsed (" + oneLineMessage(e.what()) + ")");
-    }
-    if (auto obs = std::dynamic_pointer_cast<mrpt::obs::CObservation>(obj)) {
-      take(obs, n);
-    } else if (auto sf = std::dynamic_pointer_cast<mrpt::obs::CSensoryFrame>(obj)) {
-      for (const auto& o : *sf) take(o, n);
-    } else if (std::dynamic_pointer_cast<mrpt::obs::CActionCollection>(obj)) {
-      // odometry actions of the "actions-observations" format: not used
-    } else {
-      throw InputError(rawlog_path, "not an MRPT rawlog: " + ordinal(n) + " is a " +
-                                        (obj ? obj->GetRuntimeClass()->className : "null") +
-                                        ", expected observations");
-    }
-  }
-
-  if (by_label.empty()) {
-    std::string found;
-    for (const auto& [name, count] : skipped_)
-      found += (found.empty() ? "" : ", ") + std::to_string(count) + " " + name;
-    throw InputError(rawlog_path, "no CObservation3DRangeScan with RGB and depth in the rawlog" +
-                                      (found.empty() ? std::string(" (it is empty)")
-                                                     : " (found " + found + ")"));
-  }
-  sensor_ = chooseSensor(rawlog_path, sensor, labels, by_label);
-  for (const std::string& l : labels)
-    if (l != sensor_) skipped_["CObservation3DRangeScan '" + l + "'"] = by_label[l].size();
-  for (const Scan& s : by_label[sensor_]) {
+  sensor_ = contents.chooseSensor(sensor);
+  skipped_ = contents.skippedBesides(sensor_);
+  for (const RawlogScan& s : contents.scans(sensor_)) {
     if (!s.obs->hasIntensityImage || !s.obs->hasRangeImage) {
-      throw InputError(rawlog_path, ordinal(s.object) + " (CObservation3DRangeScan '" +
-                                        sensor_ + "') lacks " +
+      throw InputError(rawlog_path, "object #" + std::to_string(s.object + 1) +
+                                        " (CObservation3DRangeScan '" + sensor_ + "') lacks " +
                                         (s.obs->hasIntensityImage ? "a range (depth) image"
                                                                   : "an intensity (RGB) image"));
     }

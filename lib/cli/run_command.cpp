@@ -15,7 +15,9 @@ int runMain(int argc, char** argv) {
       "Runs RGB-D SLAM on a TUM RGB-D folder or an MRPT rawlog and writes OUT_DIR/"
       "trajectory.txt (every tracked frame, TUM format, camera-to-world, first frame at "
       "identity), keyframes.txt, map_points.txt, run_info.yaml and report.json. Frames where "
-      "tracking is lost get no pose. The default configs and the vocabulary are read from "
+      "tracking is lost get no pose. A rawlog's range image taken by a separate depth camera "
+      "(other intrinsics or a relativePoseIntensityWRTDepth beyond the change of axes) is "
+      "registered to the RGB camera (report.json: input_source). The default configs and the vocabulary are read from "
       "PREFIX/share/dynslam/configs for an installed dynslam ($DYNSLAM_DATA_DIR overrides it), "
       "the detector model from $DYNSLAM_MODELS_DIR or the config's dynamic.detector.model.",
       ' ', DYNSLAM_VERSION);
