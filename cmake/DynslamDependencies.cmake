@@ -6,7 +6,9 @@ foreach(m core containers math poses obs serialization io img system opengl grap
   find_package(mrpt-${m} REQUIRED)
 endforeach()
 
-find_package(OpenCV 4 REQUIRED COMPONENTS core imgproc imgcodecs features2d video calib3d dnn)
+# rgbd is opencv_contrib's module (libopencv-contrib-dev): rgbd::registerDepth
+# re-projects a depth camera's range image into the RGB camera (rawlog/).
+find_package(OpenCV 4 REQUIRED COMPONENTS core imgproc imgcodecs features2d video calib3d dnn rgbd)
 find_package(Eigen3 3.3 REQUIRED NO_MODULE)
 find_package(Ceres 2 REQUIRED)
 find_package(GTest REQUIRED)

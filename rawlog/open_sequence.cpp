@@ -10,9 +10,15 @@
 namespace dynslam {
 
 std::unique_ptr<FrameSource> openSequence(const std::string& path,
-                                          const std::string& camera_config) {
-  if (isDirectory(path)) return std::make_unique<TumFolderSource>(path, camera_config);
-  if (fileExists(path)) return std::make_unique<RawlogSource>(path, camera_config);
+                                          const std::string& camera_config,
+                                          const std::string& sensor) {
+  if (isDirectory(path)) {
+    if (!sensor.empty())
+      throw UsageError("--sensor " + sensor + ": " + path +
+                       " is a TUM folder; sensor labels exist only in rawlogs");
+    return std::make_unique<TumFolderSource>(path, camera_config);
+  }
+  if (fileExists(path)) return std::make_unique<RawlogSource>(path, camera_config, sensor);
   throw InputError(path, "no such TUM sequence folder or rawlog file");
 }
 

@@ -1,22 +1,19 @@
 #include "rawlog/rawlog_source.h"
 
 #include <mrpt/img/CImage.h>
-#include <mrpt/io/CFileGZInputStream.h>
-#include <mrpt/obs/CActionCollection.h>
 #include <mrpt/obs/CObservation3DRangeScan.h>
-#include <mrpt/obs/CSensoryFrame.h>
-#include <mrpt/serialization/CArchive.h>
 #include <mrpt/system/datetime.h>
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
-#include <map>
 
 #include "core/atomic_file.h"
 #include "core/errors.h"
 #include "core/mrpt_messages.h"
 #include "rawlog/image_checks.h"
 #include "rawlog/mrpt_images_base.h"
+#include "rawlog/rawlog_contents.h"
 #include "rawlog/rawlog_layout.h"
 
 namespace dynslam {
@@ -37,19 +34,9 @@ std::string findImagesDir(const std::string& rawlog_path) {
   return preferred;  // embedded images need none
 }
 
-std::string ordinal(std::size_t i) { return "object #" + std::to_string(i + 1); }
-
 PinholeCamera cameraFromScan(const CObservation3DRangeScan& s, const std::string& path) {
-  const auto& c = s.cameraParamsIntensity;
-  PinholeCamera cam;
-  cam.name = c.cameraName.empty() ? fs::path(path).stem().string() : c.cameraName;
-  cam.width = static_cast<int>(c.ncols);
-  cam.height = static_cast<int>(c.nrows);
-  cam.fx = c.fx();
-  cam.fy = c.fy();
-  cam.cx = c.cx();
-  cam.cy = c.cy();
-  for (int i = 0; i < 5; ++i) cam.dist[i] = c.dist[i];
+  PinholeCamera cam = PinholeCamera::fromMrpt(s.cameraParamsIntensity);
+  if (cam.name.empty()) cam.name = fs::path(path).stem().string();
   cam.depth_scale = 0;
   if (s.rangeUnits > 0) {
     cam.depth_scale = 1.0 / static_cast<double>(s.rangeUnits);
@@ -63,83 +50,40 @@ PinholeCamera cameraFromScan(const CObservation3DRangeScan& s, const std::string
 
 }  // namespace
 
-RawlogSource::RawlogSource(const std::string& rawlog_path, const std::string& camera_config)
+RawlogSource::RawlogSource(const std::string& rawlog_path, const std::string& camera_config,
+                           const std::string& sensor)
     : path_(rawlog_path) {
-  if (isDirectory(rawlog_path)) throw InputError(rawlog_path, "is a folder, expected a rawlog file");
-  if (!fileExists(rawlog_path)) throw InputError(rawlog_path, "rawlog file not found");
+  const RawlogContents contents(rawlog_path);
   images_dir_ = findImagesDir(rawlog_path);
-
-  mrpt::io::CFileGZInputStream file;
-  if (!file.open(rawlog_path)) throw InputError(rawlog_path, "cannot open rawlog");
-  auto in = mrpt::serialization::archiveFrom(file);
-
-  std::map<std::string, std::size_t> ignored;  // class name -> count
-  auto take = [&](const mrpt::obs::CObservation::Ptr& obs, std::size_t n) {
-    if (auto s = std::dynamic_pointer_cast<CObservation3DRangeScan>(obs)) {
-      if (!s->hasIntensityImage || !s->hasRangeImage) {
-        throw InputError(rawlog_path, ordinal(n) + " (CObservation3DRangeScan '" +
-                                          s->sensorLabel + "') lacks " +
-                                          (s->hasIntensityImage ? "a range (depth) image"
-                                                                : "an intensity (RGB) image"));
-      }
-      scans_.push_back(s);
-    } else if (obs) {
-      std::string name = obs->GetRuntimeClass()->className;
-      if (const auto k = name.rfind("::"); k != std::string::npos) name = name.substr(k + 2);
-      ++ignored[name];
+  sensor_ = contents.chooseSensor(sensor);
+  skipped_ = contents.skippedBesides(sensor_);
+  for (const RawlogScan& s : contents.scans(sensor_)) {
+    if (!s.obs->hasIntensityImage || !s.obs->hasRangeImage) {
+      throw InputError(rawlog_path, "object #" + std::to_string(s.object + 1) +
+                                        " (CObservation3DRangeScan '" + sensor_ + "') lacks " +
+                                        (s.obs->hasIntensityImage ? "a range (depth) image"
+                                                                  : "an intensity (RGB) image"));
     }
-  };
-
-  for (std::size_t n = 0;; ++n) {
-    const uint64_t before = file.getPosition();
-    mrpt::serialization::CSerializable::Ptr obj;
-    try {
-      obj = in.ReadObject();
-    } catch (const mrpt::serialization::CExceptionEOF&) {
-      if (file.getPosition() == before) break;  // clean end between objects
-      throw InputError(rawlog_path, "truncated rawlog: " + ordinal(n) + " is incomplete");
-    } catch (const std::exception& e) {
-      // MRPT wraps a short read into a parse error; running out of data is
-      // what tells a truncated file from a corrupt or foreign one.
-      if (file.checkEOF())
-        throw InputError(rawlog_path, "truncated rawlog: " + ordinal(n) + " is incomplete");
-      throw InputError(rawlog_path, "not an MRPT rawlog: " + ordinal(n) +
-                                        " cannot be parsed (" + oneLineMessage(e.what()) + ")");
-    }
-    if (auto obs = std::dynamic_pointer_cast<mrpt::obs::CObservation>(obj)) {
-      take(obs, n);
-    } else if (auto sf = std::dynamic_pointer_cast<mrpt::obs::CSensoryFrame>(obj)) {
-      for (const auto& o : *sf) take(o, n);
-    } else if (std::dynamic_pointer_cast<mrpt::obs::CActionCollection>(obj)) {
-      // odometry actions of the "actions-observations" format: not used
-    } else {
-      throw InputError(rawlog_path, "not an MRPT rawlog: " + ordinal(n) + " is a " +
-                                        (obj ? obj->GetRuntimeClass()->className : "null") +
-                                        ", expected observations");
-    }
-  }
-
-  if (scans_.empty()) {
-    std::string found;
-    for (const auto& [name, count] : ignored)
-      found += (found.empty() ? "" : ", ") + std::to_string(count) + " " + name;
-    throw InputError(rawlog_path, "no CObservation3DRangeScan with RGB and depth in the rawlog" +
-                                      (found.empty() ? std::string(" (it is empty)")
-                                                     : " (found " + found + ")"));
+    scans_.push_back(s.obs);
   }
 
   const PinholeCamera stored = cameraFromScan(*scans_.front(), rawlog_path);
-  if (camera_config.empty()) {
-    camera_ = stored;
-  } else {
-    camera_ = loadCameraYaml(camera_config);
-    if (std::abs(camera_.depth_scale - stored.depth_scale) > 1e-3 * stored.depth_scale) {
-      throw InputError(camera_config,
-                       "depth_scale " + std::to_string(camera_.depth_scale) +
-                           " disagrees with the rawlog's rangeUnits (" +
-                           std::to_string(stored.depth_scale) + " units per metre)");
-    }
-  }
+  camera_ = camera_config.empty() ? stored : loadCameraYaml(camera_config);
+  camera_.depth_scale = stored.depth_scale;  // the rawlog's rangeUnits are authoritative
+  registration_ = DepthRegistration::forScan(*scans_.front(), camera_, rawlog_path);
+}
+
+SourceNotes RawlogSource::notes() const {
+  SourceNotes n;
+  n.sensor = sensor_;
+  n.depth_registered = registration_.has_value();
+  if (registration_) n.depth_registration = registration_->describe();
+  char units[96];
+  std::snprintf(units, sizeof units, "rangeUnits of the rawlog (%g units per metre)",
+                camera_.depth_scale);
+  n.depth_units = units;
+  n.skipped_observations = skipped_;
+  return n;
 }
 
 RawlogSource::~RawlogSource() = default;
@@ -204,6 +148,7 @@ RGBDFrame RawlogSource::load(std::size_t i) const {
     for (int x = 0; x < f.depth.cols; ++x) row[x] = r(y, x);
   }
   s.unload();  // external data is read again on the next load(i)
+  if (registration_) f.depth = registration_->apply(f.depth, f.depth_source);
 
   checkImageSize(f.rgb, camera_, f.rgb_source);
   checkImageSize(f.depth, camera_, f.depth_source);

@@ -27,9 +27,12 @@ std::vector<double> tumPairTimestamps(const std::string& sequence_dir);
 
 /// Opens a TUM folder or a .rawlog file (decided by what the path is).
 /// camera_config: camera YAML; empty = picked from the name (freiburg1/2/3),
-/// or for a rawlog, the camera parameters stored in it.
+/// or for a rawlog, the camera parameters stored in it (see RawlogSource).
+/// sensor: a rawlog's 3D sensor label (empty: its only one); UsageError for
+/// a TUM folder.
 std::unique_ptr<FrameSource> openSequence(const std::string& path,
-                                          const std::string& camera_config = "");
+                                          const std::string& camera_config = "",
+                                          const std::string& sensor = "");
 
 /// The groundtruth that goes with a sequence: "<folder>/groundtruth.txt" for a
 /// TUM folder, the "<stem>_groundtruth.txt" sidecar written by `dynslam

@@ -7,6 +7,7 @@ PACKAGES=(
   build-essential cmake pkg-config
   libmrpt-dev mrpt-apps            # poses, Lie algebra, rawlogs, graph-SLAM, opengl; rawlog-edit for checks
   libopencv-dev                    # images, ORB/FAST, LK flow, RANSAC, DNN (ONNX)
+  libopencv-contrib-dev            # rgbd::registerDepth (depth camera -> RGB camera in rawlogs)
   libeigen3-dev                    # linear algebra, umeyama
   libpcl-dev                       # voxel grid, outlier removal, PLY I/O
   libassimp-dev                    # glTF 2.0 export

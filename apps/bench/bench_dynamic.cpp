@@ -26,6 +26,7 @@
 #include <time.h>
 
 #include "core/camera.h"
+#include "core/data_paths.h"
 #include "core/stats.h"
 #include "dynamic/depth_masks.h"
 #include "dynamic/mask_scoring.h"

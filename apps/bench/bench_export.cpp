@@ -28,6 +28,7 @@
 
 #include "core/association.h"
 #include "core/camera.h"
+#include "core/data_paths.h"
 #include "core/trajectory.h"
 #include "mapexport/dense_map_builder.h"
 #include "mapexport/map_data.h"

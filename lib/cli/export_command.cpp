@@ -113,7 +113,7 @@ int exportMain(int argc, char** argv) {
   validateDenseMapOptions(options, "command line");
 
   const std::string camera = camera_arg.isSet() ? camera_arg.getValue() : run.camera_config;
-  const auto source = openSequence(run.input, camera);
+  const auto source = openSequence(run.input, camera, run.sensor);
   std::fprintf(stderr, "exporting %zu keyframes from %s\n", run.keyframes.size(),
                source->description().c_str());
   // TUM folders list their timestamps: only keyframes get decoded.

@@ -15,7 +15,11 @@ int runMain(int argc, char** argv) {
       "Runs RGB-D SLAM on a TUM RGB-D folder or an MRPT rawlog and writes OUT_DIR/"
       "trajectory.txt (every tracked frame, TUM format, camera-to-world, first frame at "
       "identity), keyframes.txt, map_points.txt, run_info.yaml and report.json. Frames where "
-      "tracking is lost get no pose.",
+      "tracking is lost get no pose. A rawlog's range image taken by a separate depth camera "
+      "(other intrinsics or a relativePoseIntensityWRTDepth beyond the change of axes) is "
+      "registered to the RGB camera (report.json: input_source). The default configs and the vocabulary are read from "
+      "PREFIX/share/dynslam/configs for an installed dynslam ($DYNSLAM_DATA_DIR overrides it), "
+      "the detector model from $DYNSLAM_MODELS_DIR or the config's dynamic.detector.model.",
       ' ', DYNSLAM_VERSION);
   TCLAP::UnlabeledValueArg<std::string> input("INPUT", "TUM sequence folder or .rawlog file",
                                               true, "", "INPUT", cmd);
@@ -25,8 +29,17 @@ int runMain(int argc, char** argv) {
                                       "SLAM parameters (default: configs/dynslam.yaml)", false,
                                       "", "FILE", cmd);
   TCLAP::ValueArg<std::string> camera(
-      "", "camera", "camera YAML (default: picked from the sequence name, or the rawlog's)",
+      "", "camera",
+      "camera YAML (default: picked from the sequence name, or the rawlog's). On a rawlog it "
+      "replaces the RGB camera's intrinsics only: the rawlog's rangeUnits stay the depth units "
+      "(the YAML's depth_scale is ignored)",
       false, "", "CAMERA.yaml", cmd);
+  TCLAP::ValueArg<std::string> sensor(
+      "", "sensor",
+      "rawlog only: the label of the 3D sensor (CObservation3DRangeScan) to use; needed when "
+      "the rawlog holds several. Other observations (IMU, images, other sensors) are skipped "
+      "and counted in report.json",
+      false, "", "LABEL", cmd);
   std::vector<std::string> modes = {"off", "detect", "flow", "detect+flow"};
   TCLAP::ValuesConstraint<std::string> mode_values(modes);
   TCLAP::ValueArg<std::string> mode(
@@ -52,6 +65,7 @@ int runMain(int argc, char** argv) {
   o.out_dir = out.getValue();
   o.config_path = config.getValue();
   o.camera_config = camera.getValue();
+  o.sensor = sensor.getValue();
   o.mode = mode.getValue();
   o.max_frames = static_cast<std::size_t>(max_frames.getValue());
   if (deterministic.getValue()) o.deterministic = 1;

@@ -2,6 +2,7 @@
 
 #include <mrpt/containers/yaml.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -9,6 +10,7 @@
 
 #include "core/atomic_file.h"
 #include "core/config_reader.h"
+#include "core/data_paths.h"
 #include "core/errors.h"
 
 namespace dynslam {
@@ -29,6 +31,30 @@ mrpt::img::TCamera PinholeCamera::toMrpt() const {
   for (int i = 0; i < 5; ++i) c.dist[i] = dist[i];
   c.cameraName = name;
   return c;
+}
+
+PinholeCamera PinholeCamera::fromMrpt(const mrpt::img::TCamera& c) {
+  PinholeCamera cam;
+  cam.name = c.cameraName;
+  cam.width = static_cast<int>(c.ncols);
+  cam.height = static_cast<int>(c.nrows);
+  cam.fx = c.fx();
+  cam.fy = c.fy();
+  cam.cx = c.cx();
+  cam.cy = c.cy();
+  for (int i = 0; i < 5; ++i) cam.dist[i] = c.dist[i];
+  return cam;
+}
+
+bool PinholeCamera::sameGeometry(const PinholeCamera& o) const {
+  auto same = [](double a, double b) {
+    return std::abs(a - b) <= 1e-9 * std::max({1.0, std::abs(a), std::abs(b)});
+  };
+  if (width != o.width || height != o.height) return false;
+  if (!same(fx, o.fx) || !same(fy, o.fy) || !same(cx, o.cx) || !same(cy, o.cy)) return false;
+  for (int i = 0; i < 5; ++i)
+    if (!same(dist[i], o.dist[i])) return false;
+  return true;
 }
 
 void PinholeCamera::validate(const std::string& source) const {
@@ -70,11 +96,6 @@ PinholeCamera loadCameraYaml(const std::string& path) {
   c.rejectUnknownKeys();  // a typo ("k4", "fx_") must not fall back to 0
   cam.validate(path);
   return cam;
-}
-
-std::string configDir() {
-  if (const char* env = std::getenv("DYNSLAM_CONFIG_DIR"); env && *env) return env;
-  return std::string(DYNSLAM_SOURCE_DIR) + "/configs";
 }
 
 std::string cameraConfigForSequence(const std::string& sequence_path) {

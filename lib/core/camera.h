@@ -22,6 +22,12 @@ struct PinholeCamera {
 
   bool hasDistortion() const;
   mrpt::img::TCamera toMrpt() const;
+  /// Size, intrinsics, distortion and name of an MRPT camera; depth_scale is
+  /// left at its default (MRPT keeps depth units elsewhere).
+  static PinholeCamera fromMrpt(const mrpt::img::TCamera& c);
+  /// Same size, intrinsics and distortion (to 1e-9 relative); names and
+  /// depth_scale are not compared.
+  bool sameGeometry(const PinholeCamera& other) const;
   /// Throws InputError(source) if a value is out of range.
   void validate(const std::string& source) const;
 };
@@ -30,10 +36,7 @@ struct PinholeCamera {
 /// Throws InputError naming the file on missing keys or bad values.
 PinholeCamera loadCameraYaml(const std::string& path);
 
-/// configs/ folder: $DYNSLAM_CONFIG_DIR if set, else the source tree's configs/.
-std::string configDir();
-
-/// Picks configs/tum_fr{1,2,3}.yaml from a sequence path containing
+/// Picks configDir()/tum_fr{1,2,3}.yaml (core/data_paths.h) from a sequence path containing
 /// "freiburg1/2/3" (or "fr1/2/3"); throws InputError naming the path if none.
 std::string cameraConfigForSequence(const std::string& sequence_path);
 

@@ -3,6 +3,7 @@
 // implements, so the SLAM pipeline never knows where frames come from.
 #include <opencv2/core.hpp>
 
+#include <map>
 #include <memory>
 #include <string>
 
@@ -20,6 +21,16 @@ struct RGBDFrame {
   std::string depth_source;
 };
 
+/// What a source did to its input beyond reading frames (for the run report).
+struct SourceNotes {
+  std::string sensor;  ///< the rawlog sensor label whose frames are used ("" for TUM)
+  bool depth_registered = false;   ///< depth re-projected from a depth camera into the RGB camera
+  std::string depth_registration;  ///< how (one line; empty when not registered)
+  std::string depth_units;         ///< where depth_scale came from ("rangeUnits", a camera YAML)
+  /// Observations not used, by kind ("CObservationIMU", "CObservation3DRangeScan 'LABEL'").
+  std::map<std::string, std::size_t> skipped_observations;
+};
+
 class FrameSource {
  public:
   virtual ~FrameSource() = default;
@@ -31,6 +42,7 @@ class FrameSource {
   virtual const PinholeCamera& camera() const = 0;
   /// Human-readable origin (folder or rawlog path).
   virtual std::string description() const = 0;
+  virtual SourceNotes notes() const { return {}; }
 };
 
 }  // namespace dynslam

@@ -13,16 +13,12 @@
 #include <set>
 #include <stdexcept>
 
+#include "core/data_paths.h"
 #include "core/errors.h"
 #include "core/timing.h"
 
 namespace dynslam {
 namespace fs = std::filesystem;
-
-std::string sharedDataDir() {
-  if (const char* env = std::getenv("DYNSLAM_SHARED_DIR"); env && *env) return env;
-  return fs::weakly_canonical(fs::path(DYNSLAM_SOURCE_DIR) / ".." / "shared").string();
-}
 
 YoloLayout parseYoloLayout(const std::string& name) {
   std::string n = name;
@@ -215,6 +211,7 @@ int gridCells(cv::Size in) {
 }  // namespace
 
 YoloDetector::YoloDetector(const YoloDetectorParams& params) : params_(params) {
+  if (params_.model_path.empty()) params_.model_path = findModelFile(kDefaultDetectorModel);
   const std::string& model = params_.model_path;
   if (!fs::is_regular_file(model)) throw InputError(model, "detector model not found");
 

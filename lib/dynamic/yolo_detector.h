@@ -32,19 +32,20 @@ struct Detection {
   bool dynamic_class = false;  ///< class is in YoloDetectorParams::dynamic_classes
 };
 
+/// The default model (TUM frame size, so no letterbox is needed), looked up
+/// in the models folders when YoloDetectorParams::model_path is empty.
+inline constexpr const char* kDefaultDetectorModel = "yolov5n_480x640.onnx";
+
 enum class YoloLayout { Auto, YoloV5, YoloX };
 
 /// "auto", "yolov5", "yolox" (case-insensitive); throws std::invalid_argument.
 YoloLayout parseYoloLayout(const std::string& name);
 const char* yoloLayoutName(YoloLayout layout);
 
-/// $DYNSLAM_SHARED_DIR if set, else <source>/../shared (models and data).
-std::string sharedDataDir();
-
 struct YoloDetectorParams {
-  /// ONNX model; default <shared>/models/yolov5n_480x640.onnx (TUM frame size,
-  /// so no letterbox is needed).
-  std::string model_path = sharedDataDir() + "/models/yolov5n_480x640.onnx";
+  /// ONNX model; empty = kDefaultDetectorModel found by findModelFile
+  /// (core/data_paths.h: $DYNSLAM_MODELS_DIR, ...).
+  std::string model_path;
   /// One class name a line; empty = coco.names next to the model.
   std::string class_names_path;
   YoloLayout layout = YoloLayout::Auto;

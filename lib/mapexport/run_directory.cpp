@@ -58,6 +58,7 @@ RunDirectory readRunDirectory(const std::string& dir) {
   run.input = path("input");
   if (run.input.empty()) throw InputError(run.runInfoPath(), "missing key 'input'");
   run.camera_config = path("camera_config");
+  run.sensor = text("sensor");
   run.config = path("config");
   run.keyframes = readTumTrajectory(run.keyframesPath());
   if (run.keyframes.empty()) throw InputError(run.keyframesPath(), "no keyframes");

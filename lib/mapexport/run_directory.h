@@ -3,6 +3,7 @@
 //   keyframes.txt          final keyframe poses (TUM format; timestamps are the
 //                          input frames' RGB timestamps)
 //   run_info.yaml          `input:` sequence path, `camera_config:` (may be empty),
+//                          `sensor:` the rawlog's sensor label (optional),
 //                          `config:` the SLAM config the run used (optional)
 //   dynamic_masks/<t>.png  optional, CV_8U, 255 = dynamic, t with 6 decimals
 //   map_points.txt         optional sparse map ("x y z r g b")
@@ -27,6 +28,7 @@ struct RunDirectory {
   std::string dir;
   std::string input;          ///< sequence path (TUM folder or rawlog)
   std::string camera_config;  ///< camera YAML; empty = chosen by openSequence
+  std::string sensor;         ///< rawlog 3D sensor label (`sensor:`); may be empty
   std::string config;         ///< the run's SLAM config YAML (`config:`); may be empty
   Trajectory keyframes;
 

@@ -81,7 +81,7 @@ RunSummary runSlam(const RunOptions& opt) {
   SlamConfig cfg = loadSlamConfig(config_path);
   if (opt.deterministic >= 0) cfg.system.deterministic = opt.deterministic != 0;
 
-  std::unique_ptr<FrameSource> source = openSequence(opt.input, opt.camera_config);
+  std::unique_ptr<FrameSource> source = openSequence(opt.input, opt.camera_config, opt.sensor);
   std::size_t n = source->size();
   if (opt.max_frames > 0) n = std::min(n, opt.max_frames);
   // The run folder is one unit: written beside and moved into place when
@@ -209,6 +209,7 @@ RunSummary runSlam(const RunOptions& opt) {
        << "camera_config: "
        << yamlQuote(opt.camera_config.empty() ? "" : std::filesystem::absolute(opt.camera_config).string())
        << "\n"
+       << "sensor: " << yamlQuote(opt.sensor) << "\n"
        << "config: " << yamlQuote(std::filesystem::absolute(config_path).string()) << "\n"
        << "mode: " << yamlQuote(opt.mode) << "\n"
        << "frames: " << n << "\n";
@@ -233,6 +234,15 @@ RunSummary runSlam(const RunOptions& opt) {
       .value("wall_time_s", wall)
       .value("fps", sum.fps)
       .value("peak_rss_mb", peakRssMb());
+  const SourceNotes notes = source->notes();
+  w.beginObject("input_source")
+      .value("sensor", notes.sensor)
+      .value("depth_registered", notes.depth_registered)
+      .value("depth_registration", notes.depth_registration)
+      .value("depth_units", notes.depth_units);
+  w.beginObject("skipped_observations");
+  for (const auto& [kind, count] : notes.skipped_observations) w.value(kind, count);
+  w.endObject().endObject();
   if (filter) {
     w.beginObject("dynamic")
         .value("flagged_keypoints", flagged)

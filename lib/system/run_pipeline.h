@@ -7,9 +7,11 @@
 //   trajectory.txt   every tracked frame, TUM format, camera-to-world
 //   keyframes.txt    final keyframe poses, TUM format
 //   map_points.txt   "x y z r g b" per map point (world frame)
-//   run_info.yaml    input path, camera config, config, mode
+//   run_info.yaml    input path, camera config, sensor, config, mode
 //   frame_times.txt  per frame: timestamp, track and frame_total ms
-//   report.json      counts, per-stage times, fps, peak memory
+//   report.json      counts, per-stage times, fps, peak memory, and what the
+//                    input source did (sensor, depth registration, skipped
+//                    observations)
 #include <string>
 
 namespace dynslam {
@@ -19,6 +21,7 @@ struct RunOptions {
   std::string out_dir;
   std::string config_path;    ///< empty: configs/dynslam.yaml
   std::string camera_config;  ///< empty: from the sequence
+  std::string sensor;         ///< rawlog 3D sensor label; empty: its only one
   std::string mode = "detect+flow";  ///< detect+flow | detect | flow | off
   std::size_t max_frames = 0; ///< 0: all
   int deterministic = -1;     ///< -1: as configured, 0/1: override

@@ -4,6 +4,7 @@
 
 #include "core/camera.h"
 #include "core/config_reader.h"
+#include "core/data_paths.h"
 
 #include <filesystem>
 

@@ -439,6 +439,16 @@ TEST(ExportRun, FrameTimestampsAvoidLoadingOtherFrames) {
   EXPECT_EQ(source.loads, 2);
 }
 
+// A run on one sensor of a rawlog records it, so export reopens the same one.
+TEST(ExportRun, RunInfoKeepsTheRawlogSensor) {
+  TempDir dir;
+  writeRun(dir, {2.0});
+  EXPECT_EQ(readRunDirectory(dir / "run").sensor, "");  // runs before issue 20
+  writeText(dir / "run/run_info.yaml",
+            "input: /data/k.rawlog\ncamera_config: \"\"\nsensor: \"KINECT\"\n");
+  EXPECT_EQ(readRunDirectory(dir / "run").sensor, "KINECT");
+}
+
 TEST(UpDirection, PerpendicularToCameraXAxesEvenWhenLookingDown) {
   // Cameras 40 deg pitched down at a desk, yaw spread over 90 deg, z up.
   Trajectory kfs;

@@ -24,11 +24,14 @@ std::string sharedDir() {
 
 std::string rpyDir() { return sharedDir() + "/data/tum/rgbd_dataset_freiburg1_rpy"; }
 
-std::string dynslamBinary() {
+std::string binaryDir() {
   const char* env = std::getenv("DYNSLAM_BINARY_DIR");
-  const std::string dir = (env && *env) ? env : DYNSLAM_DEFAULT_BINARY_DIR;
-  return dir + "/apps/dynslam";
+  return (env && *env) ? env : DYNSLAM_DEFAULT_BINARY_DIR;
 }
+
+std::string dynslamBinary() { return binaryDir() + "/apps/dynslam"; }
+
+std::string cmakeCommand() { return DYNSLAM_CMAKE_COMMAND; }
 
 TempDir::TempDir() {
   static std::atomic<int> n{0};
@@ -44,7 +47,7 @@ TempDir::~TempDir() {
   fs::remove_all(path_, ec);
 }
 
-static std::string shellQuote(const std::string& s) {
+std::string shellQuote(const std::string& s) {
   std::string o = "'";
   for (char c : s) {
     if (c == '\'') o += "'\\''";
@@ -69,12 +72,16 @@ CommandResult runDynslam(const std::vector<std::string>& args) {
 }
 
 SplitCommandResult runDynslamSplit(const std::vector<std::string>& args) {
-  const TempDir scratch;
-  const std::string err_path = scratch / "stderr.txt";
   std::string cmd = shellQuote(dynslamBinary());
   for (const auto& a : args) cmd += " " + shellQuote(a);
-  // exec: a signal that kills dynslam shows as a signal, not as the shell's 128+N.
-  cmd = "exec " + cmd + " 2>" + shellQuote(err_path) + " </dev/null";
+  return runShellSplit(cmd);
+}
+
+SplitCommandResult runShellSplit(const std::string& command) {
+  const TempDir scratch;
+  const std::string err_path = scratch / "stderr.txt";
+  // exec: a signal that kills the program shows as a signal, not as the shell's 128+N.
+  const std::string cmd = "exec " + command + " 2>" + shellQuote(err_path) + " </dev/null";
   SplitCommandResult r;
   FILE* p = ::popen(cmd.c_str(), "r");
   if (!p) return r;

@@ -15,8 +15,14 @@ std::string sharedDir();
 std::string rpyDir();
 /// The repository root (for configs/).
 std::string sourceDir();
+/// The build folder under test ($DYNSLAM_BINARY_DIR, else the configured one).
+std::string binaryDir();
 /// Path of the built `dynslam` executable.
 std::string dynslamBinary();
+/// The cmake that configured the build (for `cmake --install`).
+std::string cmakeCommand();
+/// 'text' quoted for /bin/sh.
+std::string shellQuote(const std::string& text);
 
 /// A fresh empty directory under the system temp dir, removed on destruction.
 class TempDir {
@@ -46,6 +52,8 @@ struct SplitCommandResult {
 /// Runs `dynslam ARGS...` with stdout and stderr captured apart (for checks
 /// on the error line alone).
 SplitCommandResult runDynslamSplit(const std::vector<std::string>& args);
+/// Runs a /bin/sh command line (its words already quoted) the same way.
+SplitCommandResult runShellSplit(const std::string& command);
 
 /// Writes a text file (creating parent folders).
 void writeText(const std::string& path, const std::string& content);
