@@ -79,10 +79,11 @@ void expectPeople(const std::vector<Detection>& dets, const std::vector<cv::Rect
   EXPECT_LE(people, max_people) << what;
   for (std::size_t i = 0; i < dets.size(); ++i)
     for (std::size_t j = i + 1; j < dets.size(); ++j)
-      if (dets[i].class_id == dets[j].class_id)
+      if (dets[i].class_id == dets[j].class_id) {
         EXPECT_LE(iou(dets[i].box, dets[j].box), 0.45f + 1e-4f)
             << what << ": class " << dets[i].class_id << " boxes " << dets[i].box << " and "
             << dets[j].box << " survive suppression together";
+      }
   std::vector<bool> used(dets.size(), false);
   for (const auto& e : expected) {
     int best = -1;

@@ -145,7 +145,15 @@ TEST(RunOutputFolder, AFailedRunLeavesTheEarlierRunWhole) {
 TEST(ConvertInterrupted, SigintRemovesItsTemporaries) {
   TempDir d;
   const pid_t pid = start({"convert", rpyDir(), d / "rpy.rawlog"}, d / "log");
-  sleepS(1.5);
+  // Signalled once its temporaries exist (start-up takes seconds on a loaded
+  // machine; a fixed delay could hit it before it wrote anything).
+  auto temporaries = [&] {
+    std::size_t n = 0;
+    for (const auto& e : fs::directory_iterator(d.path())) n += e.path().filename() != "log";
+    return n;
+  };
+  for (int i = 0; i < 3000 && temporaries() == 0; ++i) sleepS(0.02);
+  ASSERT_GT(temporaries(), 0u) << "convert wrote nothing within 60 s";
   kill(pid, SIGINT);
   const int status = waitFor(pid);
   const std::string log = readText(d / "log");

@@ -203,9 +203,10 @@ TEST(RecordedRawlog, KinectDepthIsRegisteredToTheRgbCamera) {
     EXPECT_EQ(skipped["CObservationIMU"].as<int>(), int(kFrames));
     EXPECT_EQ(skipped["CObservationImage"].as<int>(), int(kFrames));
     for (int o = 0; o < 3; ++o)
-      if (o != s)
+      if (o != s) {
         EXPECT_EQ(skipped[std::string("CObservation3DRangeScan '") + sensors[o] + "'"].as<int>(),
                   int(kFrames));
+      }
   }
   std::printf("ATE RMSE: registered %.4f m, depth camera (registered by dynslam) %.4f m, "
               "depth camera read as registered %.4f m\n",
