@@ -1,10 +1,18 @@
 #include "core/stats.h"
 
+#include <sys/resource.h>
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
 namespace dynslam {
+
+double peakRssMb() {
+  rusage ru{};
+  getrusage(RUSAGE_SELF, &ru);
+  return ru.ru_maxrss / 1024.0;  // KiB on Linux
+}
 
 SummaryStats summarize(std::vector<double> v) {
   SummaryStats s;

@@ -15,6 +15,10 @@ struct SummaryStats {
 /// (divide by n), as TUM's evaluate_ate.py (numpy.std). p95: nearest-rank.
 SummaryStats summarize(std::vector<double> values);
 
+/// Peak resident memory of this process so far (MiB; getrusage's ru_maxrss),
+/// for the run and export reports.
+double peakRssMb();
+
 /// Wall-clock durations (ms) of one named pipeline stage.
 class StageTimes {
  public:

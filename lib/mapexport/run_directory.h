@@ -42,6 +42,13 @@ struct RunDirectory {
 /// the run folder if it exists there, else kept as written.
 RunDirectory readRunDirectory(const std::string& dir);
 
+/// Which dynamic masks the exporters leave out of the map.
+enum class DynamicMaskSource {
+  kRun,    ///< the run's dynamic_masks/ (the default)
+  kNone,   ///< none: people kept (`--no-masks`, for comparison)
+  kTruth,  ///< the ground-truth people masks (label > 0), for reference maps
+};
+
 struct ExportOptions {
   /// RGB timestamps of source's frames (index i = frame i, e.g.
   /// tumPairTimestamps() of a TUM folder): with them only the keyframes'
@@ -52,6 +59,7 @@ struct ExportOptions {
   /// to score the map against. nullopt: RUN's input folder's masks/ if it
   /// has one; "": do not score.
   std::optional<std::string> truth_masks_dir;
+  DynamicMaskSource masks = DynamicMaskSource::kRun;
   /// Export report (JSON); empty: exportReportPath(out_path).
   std::string report_path;
   bool write_report = true;

@@ -1,7 +1,5 @@
 #include "system/run_pipeline.h"
 
-#include <sys/resource.h>
-
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -17,6 +15,7 @@
 #include "core/errors.h"
 #include "core/interrupt.h"
 #include "core/json_writer.h"
+#include "core/stats.h"
 #include "core/staged_folder.h"
 #include "core/progress.h"
 #include "dynamic/mask_scoring.h"
@@ -27,12 +26,6 @@
 namespace dynslam {
 
 namespace {
-
-double peakRssMb() {
-  struct rusage ru {};
-  getrusage(RUSAGE_SELF, &ru);
-  return ru.ru_maxrss / 1024.0;  // KiB on Linux
-}
 
 void writeStats(JsonWriter& w, const std::string& key, const std::vector<double>& v) {
   const SummaryStats s = summarize(v);
