@@ -52,9 +52,10 @@ void requireOccupancyOutput(const TCLAP::Arg& arg, bool occupancy) {
 
 void printOccupancyExport(const OccupancyExportResult& r) {
   std::printf("%s: %zu occupied and %zu free cells (%zu occupied before carving, %zu carved) from "
-              "%zu keyframes (%zu rays) in %.2f s, peak %.0f MB\n",
+              "%zu keyframes (%zu rays) in %.2f s (CPU %.2f s), peak %.0f MB\n",
               r.output.c_str(), r.cells.occupied, r.cells.free, r.stats.occupied_before_carving,
-              r.stats.carved_cells, r.stats.keyframes, r.stats.rays, r.seconds, r.peak_rss_mb);
+              r.stats.carved_cells, r.stats.keyframes, r.stats.rays, r.seconds, r.cpu_seconds,
+              r.peak_rss_mb);
   std::printf("up %.4f,%.4f,%.4f (%s), floor at %.3f m (%s)\n", r.up.up[0], r.up.up[1],
               r.up.up[2], r.up.source.c_str(), r.level.floor_height, r.level.floor_source.c_str());
   if (r.grid) {
@@ -75,6 +76,9 @@ void printOccupancyExport(const OccupancyExportResult& r) {
                 r.reference_path.c_str(), 100 * r.reference->referenceShare(),
                 r.reference->reference_cells, 100 * r.reference->mapShare(),
                 r.reference->map_cells, r.reference->tolerance);
+    std::printf("reference, same cells only: %.2f %% of its cells in this map, %.2f %% of this map's "
+                "in it\n",
+                100 * r.reference_strict->referenceShare(), 100 * r.reference_strict->mapShare());
   }
   if (!r.report_path.empty()) std::printf("%s: export report\n", r.report_path.c_str());
 }

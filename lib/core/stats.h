@@ -18,6 +18,9 @@ SummaryStats summarize(std::vector<double> values);
 /// Peak resident memory of this process so far (MiB; getrusage's ru_maxrss),
 /// for the run and export reports.
 double peakRssMb();
+/// User + system CPU time of this process so far (seconds, all threads):
+/// on a shared machine wall times mostly measure the other jobs.
+double processCpuSeconds();
 
 /// Wall-clock durations (ms) of one named pipeline stage.
 class StageTimes {

@@ -65,6 +65,14 @@ RunDirectory readRunDirectory(const std::string& dir) {
   return run;
 }
 
+void writeExportOrigin(JsonWriter& j, const RunDirectory& run, const FrameSource& source,
+                       const std::string& out_path) {
+  j.value("run_dir", run.dir)
+      .value("input", run.input)
+      .value("source", source.description())
+      .value("output", out_path);
+}
+
 std::string exportReportPath(const std::string& out_path) {
   fs::path p(out_path);
   return (p.parent_path() / (p.stem().string() + ".export.json")).string();
@@ -86,12 +94,9 @@ void writeReport(const std::string& path, const RunDirectory& run, const FrameSo
                  const std::map<std::string, double>& phases,
                  const DenseMaskProvenance* provenance) {
   JsonWriter j;
-  j.beginObject()
-      .value("run_dir", run.dir)
-      .value("input", run.input)
-      .value("source", source.description())
-      .value("output", out_path)
-      .value("keyframes", r.stats.keyframes)
+  j.beginObject();
+  writeExportOrigin(j, run, source, out_path);
+  j.value("keyframes", r.stats.keyframes)
       .value("backprojected_points", r.stats.backprojected_points)
       .value("after_voxel", r.stats.after_voxel)
       .value("carved_points", r.stats.carved_points)

@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "core/json_writer.h"
 #include "core/rgbd_frame.h"
 #include "core/trajectory.h"
 #include "mapexport/dense_map_builder.h"
@@ -80,6 +81,10 @@ struct ExportResult {
   std::optional<MaskShare> dense_truth;
   std::optional<SparseMaskShare> sparse_truth;  ///< also needs map_points.txt
 };
+
+/// The export reports' first keys: run_dir, input, source, output.
+void writeExportOrigin(JsonWriter& j, const RunDirectory& run, const FrameSource& source,
+                       const std::string& out_path);
 
 /// MAP.ply -> MAP.export.json (same folder, extension replaced).
 std::string exportReportPath(const std::string& out_path);

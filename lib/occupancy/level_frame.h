@@ -3,7 +3,8 @@
 // camera's frame, which is tilted (fr1_rpy looks ~40 deg down), while a 2D
 // occupancy grid needs "up" and a floor. Up comes from the export's plane-
 // based estimate (up_estimation.h); the floor is the lowest horizontal layer
-// of occupied cells that covers a floor-sized area.
+// of the map's surface points (one per occupied cell) that covers a
+// floor-sized area.
 //
 // Level frame: z = up, x = the world x axis made horizontal (world y when x
 // is vertical), y = z x x; origin at the world origin, heights measured from
@@ -18,7 +19,7 @@ namespace dynslam {
 
 struct LevelFrame {
   Eigen::Matrix3d R = Eigen::Matrix3d::Identity();  ///< world -> level rotation
-  double floor_height = 0;  ///< level z of the floor (its cells' centres)
+  double floor_height = 0;  ///< level z of the floor surface
   std::string floor_source = "none";  ///< "floor layer", "lowest cells" or "none"
 
   /// Level coordinates of a world point.
@@ -33,13 +34,11 @@ struct LevelFrame {
 /// std::invalid_argument for a zero vector.
 Eigen::Matrix3d levelRotation(const std::array<double, 3>& up);
 
-/// Floor of the cells at `heights` (level z of occupied cell centres,
-/// cell side `resolution`): the lowest pair of neighbouring resolution-thick
-/// layers that hold at least min_area / resolution^2 cells; the floor is
-/// their cells' mean centre height (so within half a cell of the surface,
-/// and the band above it starts at the floor cells' centres). Without such
-/// a layer, the 1st percentile of the heights ("lowest cells"); without
-/// cells 0 ("none").
+/// Floor of the surface points at `heights` (level z, one point per
+/// occupied cell of side `resolution`): the lowest pair of neighbouring
+/// resolution-thick layers that hold at least min_area / resolution^2
+/// points; the floor is their mean height. Without such a layer, the 1st
+/// percentile of the heights ("lowest cells"); without points 0 ("none").
 void estimateFloor(const std::vector<double>& heights, double resolution, double min_area,
                    LevelFrame& frame);
 

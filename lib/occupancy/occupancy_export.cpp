@@ -32,16 +32,14 @@ std::string lowerExtension(const std::string& path) {
   return ext;
 }
 
-/// Up from the static points, the floor from the occupied cells.
-LevelFrame levelFrameOf(const octomap::OcTree& tree, const UpEstimate& up,
+/// Up and floor from the map's surface points (one per occupied cell).
+LevelFrame levelFrameOf(const ColoredCloud& surface, const UpEstimate& up,
                         const OccupancyMapOptions& o) {
   LevelFrame level;
   level.R = levelRotation(up.up);
   std::vector<double> heights;
-  for (const auto& k : occupiedCells(tree)) {
-    const octomap::point3d c = tree.keyToCoord(k);
-    heights.push_back(level.R.row(2).dot(Eigen::Vector3d(c.x(), c.y(), c.z())));
-  }
+  heights.reserve(surface.size());
+  for (const auto& p : surface) heights.push_back(level.R.row(2).dot(Eigen::Vector3d(p.x, p.y, p.z)));
   estimateFloor(heights, o.resolution, o.floor_min_area, level);
   return level;
 }
@@ -50,19 +48,17 @@ void writeReport(const std::string& path, const RunDirectory& run, const FrameSo
                  const DenseMapOptions& dense, const OccupancyMapOptions& o,
                  const OccupancyExportResult& r) {
   JsonWriter j;
-  j.beginObject()
-      .value("run_dir", run.dir)
-      .value("input", run.input)
-      .value("source", source.description())
-      .value("output", r.output)
-      .value("format", r.grid ? "ros_map_server_grid" : "octomap_bt")
+  j.beginObject();
+  writeExportOrigin(j, run, source, r.output);
+  j.value("format", r.grid ? "ros_map_server_grid" : "octomap_bt")
       .value("keyframes", r.stats.keyframes)
       .value("rays", r.stats.rays)
       .value("occupied_cells", r.cells.occupied)
       .value("free_cells", r.cells.free)
       .value("occupied_before_carving", r.stats.occupied_before_carving)
       .value("carved_cells", r.stats.carved_cells)
-      .value("seconds", r.seconds);
+      .value("seconds", r.seconds)
+      .value("cpu_seconds", r.cpu_seconds);
   j.beginObject("phase_seconds");
   for (const auto& [name, sec] : r.phases) j.value(name, sec);
   j.endObject();
@@ -103,9 +99,11 @@ void writeReport(const std::string& path, const RunDirectory& run, const FrameSo
         .value("standing_share", r.swept->standingShare())
         .endObject();
   }
-  if (r.reference) {
-    const OccupiedOverlap& v = *r.reference;
-    j.beginObject("reference")
+  for (const auto& [key, overlap] : {std::pair{"reference", &r.reference},
+                                      std::pair{"reference_strict", &r.reference_strict}}) {
+    if (!*overlap) continue;
+    const OccupiedOverlap& v = **overlap;
+    j.beginObject(key)
         .value("path", r.reference_path)
         .value("tolerance_cells", v.tolerance)
         .value("map_cells", v.map_cells)
@@ -156,6 +154,7 @@ OccupancyExportResult exportOccupancyRun(const RunDirectory& run, const FrameSou
     builder.addKeyframe(k.frame, k.keyframe->pose, k.dynamic_mask, k.truth);
   });
   r.phases["load_and_ray_cast"] = secondsSince(t_start);
+  r.phases["ray_casting"] = builder.stats().ray_casting_seconds;  // part of load_and_ray_cast
   auto t = Clock::now();
   builder.build();
   r.phases["free_space_carving"] = builder.stats().carving_seconds;
@@ -166,10 +165,10 @@ OccupancyExportResult exportOccupancyRun(const RunDirectory& run, const FrameSou
 
   t = Clock::now();
   MapData sample;
-  sample.points = builder.pointSample();
+  sample.points = builder.surfacePoints();
   sample.keyframes = run.keyframes;
   r.up = estimateMapUp(sample);
-  r.level = levelFrameOf(tree, r.up, options);
+  r.level = levelFrameOf(builder.surfacePoints(), r.up, options);
   r.phases["up_and_floor"] = secondsSince(t);
 
   t = Clock::now();
@@ -191,9 +190,11 @@ OccupancyExportResult exportOccupancyRun(const RunDirectory& run, const FrameSou
   if (reference) {
     t = Clock::now();
     r.reference = compareOccupied(tree, *reference, eo.reference_tolerance);
+    r.reference_strict = compareOccupied(tree, *reference, 0);
     r.phases["reference_overlap"] = secondsSince(t);
   }
   r.seconds = secondsSince(t_start);
+  r.cpu_seconds = processCpuSeconds();
   r.peak_rss_mb = peakRssMb();
   if (eo.run.write_report) {
     r.report_path = eo.run.report_path.empty() ? exportReportPath(out_path) : eo.run.report_path;

@@ -42,9 +42,11 @@ struct OccupancyExportResult {
   std::string truth_masks_dir;
   std::optional<MaskShare> swept;       ///< occupied cells in the people's swept volume
   std::string reference_path;
-  std::optional<OccupiedOverlap> reference;
+  std::optional<OccupiedOverlap> reference;         ///< within reference_tolerance
+  std::optional<OccupiedOverlap> reference_strict;  ///< the same cells only
   std::map<std::string, double> phases;
   double seconds = 0;
+  double cpu_seconds = 0;  ///< of the whole process up to the report
   double peak_rss_mb = 0;
   std::string report_path;
 };

@@ -15,8 +15,6 @@ double secondsSince(Clock::time_point t) {
   return std::chrono::duration<double>(Clock::now() - t).count();
 }
 
-constexpr std::size_t kSamplePerKeyframe = 5000;
-
 }  // namespace
 
 OccupancyMapBuilder::OccupancyMapBuilder(const PinholeCamera& camera, const DenseMapOptions& dense,
@@ -41,7 +39,6 @@ void OccupancyMapBuilder::addKeyframe(const RGBDFrame& frame, const mrpt::poses:
   scan.reserve(scratch_.size());
   for (const auto& p : scratch_) {
     scan.push_back(p.x, p.y, p.z);
-    if (!carver_) continue;
     EndpointSum& e = endpoints_[tree_->coordToKey(octomap::point3d(p.x, p.y, p.z))];
     e.x += p.x;
     e.y += p.y;
@@ -54,8 +51,6 @@ void OccupancyMapBuilder::addKeyframe(const RGBDFrame& frame, const mrpt::poses:
   tree_->insertPointCloud(scan, origin, /*maxrange=*/-1, /*lazy_eval=*/true, /*discretize=*/true);
   stats_.ray_casting_seconds += secondsSince(t0);
 
-  const std::size_t step = std::max<std::size_t>(1, scratch_.size() / kSamplePerKeyframe);
-  for (std::size_t i = 0; i < scratch_.size(); i += step) sample_.push_back(scratch_[i]);
   if (carver_) carver_->addKeyframe(frame.depth, pose_wc, grown);
 
   if (!truth.empty()) {
@@ -63,13 +58,11 @@ void OccupancyMapBuilder::addKeyframe(const RGBDFrame& frame, const mrpt::poses:
     if (truth.type() != CV_8UC1 || truth.cols != cam.width || truth.rows != cam.height) {
       throw std::invalid_argument("truth mask must be CV_8UC1 of the image size");
     }
-    // Every person pixel, masked by the run or not: back-project all pixels
-    // but the static ones.
-    const cv::Mat static_pixels = truth == 0;
+    // Every pixel, masked by the run or not.
     scratch_.clear();
     scratch_pixels_.clear();
-    projector_.backProjectGrown(frame, pose_wc, static_pixels, scratch_, &scratch_pixels_);
-    if (!swept_) swept_ = std::make_unique<DenseMaskProvenance>(options_.resolution);
+    projector_.backProjectGrown(frame, pose_wc, cv::Mat(), scratch_, &scratch_pixels_);
+    if (!swept_) swept_ = std::make_unique<SweptVolume>(*tree_);
     swept_->add(scratch_, scratch_pixels_, truth.isContinuous() ? truth : truth.clone());
   }
   stats_.keyframes++;
@@ -80,20 +73,22 @@ void OccupancyMapBuilder::build() {
   tree_->updateInnerOccupancy();
   const std::vector<octomap::OcTreeKey> occupied = occupiedCells(*tree_);
   stats_.occupied_before_carving = occupied.size();
+  // Each cell's endpoint centroid (its centre if it has none: occupied by
+  // the log-odds of pruned neighbours only).
+  ColoredCloud centroids = cellCentres(*tree_, occupied);
+  for (std::size_t i = 0; i < occupied.size(); ++i) {
+    const auto it = endpoints_.find(occupied[i]);
+    if (it == endpoints_.end() || it->second.n == 0) continue;
+    const EndpointSum& e = it->second;
+    centroids[i].x = float(e.x / e.n);
+    centroids[i].y = float(e.y / e.n);
+    centroids[i].z = float(e.z / e.n);
+  }
+  endpoints_.clear();
+  std::vector<std::uint8_t> keep(occupied.size(), 1);
   if (carver_ && carver_->keyframes() > 1) {
     const auto t0 = Clock::now();
-    // Each cell votes with its endpoints' centroid (its centre if it has
-    // none: occupied by the log-odds of pruned neighbours only).
-    ColoredCloud centroids = cellCentres(*tree_, occupied);
-    for (std::size_t i = 0; i < occupied.size(); ++i) {
-      const auto it = endpoints_.find(occupied[i]);
-      if (it == endpoints_.end() || it->second.n == 0) continue;
-      const EndpointSum& e = it->second;
-      centroids[i].x = float(e.x / e.n);
-      centroids[i].y = float(e.y / e.n);
-      centroids[i].z = float(e.z / e.n);
-    }
-    const std::vector<std::uint8_t> keep = carver_->keepFlags(centroids);
+    keep = carver_->keepFlags(centroids);
     const float free_value = tree_->getClampingThresMinLog();
     for (std::size_t i = 0; i < occupied.size(); ++i) {
       if (keep[i]) continue;
@@ -102,14 +97,16 @@ void OccupancyMapBuilder::build() {
     }
     tree_->updateInnerOccupancy();
     stats_.carving_seconds = secondsSince(t0);
-    endpoints_.clear();
   }
   tree_->prune();
+  surface_.clear();
+  for (std::size_t i = 0; i < occupied.size(); ++i)
+    if (keep[i]) surface_.push_back(centroids[i]);
 }
 
 std::optional<MaskShare> OccupancyMapBuilder::sweptVolumeShare() const {
   if (!swept_) return std::nullopt;
-  return swept_->score(cellCentres(*tree_, occupiedCells(*tree_)));
+  return swept_->score(occupiedCells(*tree_));
 }
 
 }  // namespace dynslam

@@ -16,9 +16,8 @@
 // surface, which a keyframe looking along the surface sees as "through".
 //
 // With ground-truth masks (composite sequences) the builder also records
-// the cells that hold a walking (or standing-still) person in some keyframe:
-// the people's swept volume, as seen by the sensor (DenseMaskProvenance at
-// the map's resolution, fed with *every* person pixel, masked or not).
+// the people's swept volume (swept_volume.h), from every pixel of the
+// keyframes, masked or not.
 #include <mrpt/poses/CPose3D.h>
 
 #include <octomap/OcTree.h>
@@ -35,6 +34,7 @@
 #include "mapexport/free_space_carver.h"
 #include "mapexport/truth_mask_score.h"
 #include "occupancy/occupancy_config.h"
+#include "occupancy/swept_volume.h"
 
 namespace dynslam {
 
@@ -64,15 +64,17 @@ class OccupancyMapBuilder {
                    const cv::Mat& dynamic_mask = cv::Mat(), const cv::Mat& truth = cv::Mat());
 
   /// Carves the occupied cells (when the carving options are on and there
-  /// are two keyframes or more), then updates the inner nodes and prunes.
+  /// are two keyframes or more), then updates the inner nodes, prunes and
+  /// keeps the surface points.
   /// Call once, after the last keyframe.
   void build();
 
   const octomap::OcTree& tree() const { return *tree_; }
-  /// An even sample of the static points that were ray cast (about 5000 per
-  /// keyframe), for the plane-based up estimate (up_estimation.h): voxel
-  /// centres lie on a staircase when the world frame is tilted.
-  const ColoredCloud& pointSample() const { return sample_; }
+  /// One point per occupied cell of the built map: the centroid of the ray
+  /// endpoints that fell into it (like the dense map's voxel centroids, they
+  /// lie on the surfaces, where cell centres form a staircase when the world
+  /// frame is tilted). For the plane-based up estimate (up_estimation.h).
+  const ColoredCloud& surfacePoints() const { return surface_; }
   /// Occupied cells of the built map inside the people's swept volume;
   /// nullopt without truth masks.
   std::optional<MaskShare> sweptVolumeShare() const;
@@ -83,14 +85,14 @@ class OccupancyMapBuilder {
   DepthBackProjector projector_;
   std::unique_ptr<octomap::OcTree> tree_;
   std::unique_ptr<FreeSpaceCarver> carver_;
-  std::unique_ptr<DenseMaskProvenance> swept_;
+  std::unique_ptr<SweptVolume> swept_;
   struct EndpointSum {
     double x = 0, y = 0, z = 0;
     std::uint32_t n = 0;
   };
   /// Per cell, the ray endpoints that fell into it (for the carving votes).
   std::unordered_map<octomap::OcTreeKey, EndpointSum, octomap::OcTreeKey::KeyHash> endpoints_;
-  ColoredCloud scratch_, sample_;
+  ColoredCloud scratch_, surface_;
   std::vector<std::uint32_t> scratch_pixels_;
   OccupancyMapStats stats_;
 };

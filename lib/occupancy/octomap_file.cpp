@@ -23,7 +23,10 @@ void writeOctoMapFile(const std::string& path, const octomap::OcTree& tree) {
   writeFileAtomically(
       path,
       [&](std::ostream& out) {
-        if (!tree.writeBinaryConst(out)) throw std::runtime_error(path + ": OctoMap write failed");
+        StderrCapture capture;  // OctoMap reports its progress on stderr
+        const bool ok = tree.writeBinaryConst(out);
+        capture.finish();
+        if (!ok) throw std::runtime_error(path + ": OctoMap write failed");
       },
       /*binary=*/true);
 }

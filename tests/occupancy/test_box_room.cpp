@@ -43,16 +43,14 @@ BuiltRoom build(const BoxRoom& room, bool mask_person = false, bool truth = fals
   }
   b.builder->build();
   MapData sample;
-  sample.points = b.builder->pointSample();
+  sample.points = b.builder->surfacePoints();
   sample.keyframes = room.keyframes();
   b.level.R = levelRotation(estimateMapUp(sample).up);
   std::vector<double> heights;
-  const auto& tree = b.builder->tree();
-  for (const auto& k : occupiedCells(tree)) {
-    const auto c = tree.keyToCoord(k);
-    heights.push_back(b.level.R.row(2).dot(Eigen::Vector3d(c.x(), c.y(), c.z())));
+  for (const auto& p : b.builder->surfacePoints()) {
+    heights.push_back(b.level.R.row(2).dot(Eigen::Vector3d(p.x, p.y, p.z)));
   }
-  estimateFloor(heights, tree.getResolution(), 0.5, b.level);
+  estimateFloor(heights, 0.05, 0.5, b.level);
   return b;
 }
 
@@ -213,9 +211,16 @@ void checkGridAgainstFloorPlan(const BoxRoom& room, const BuiltRoom& b) {
 
 }  // namespace
 
+/// The plain room's map, built once for the tests that only read it.
+const BuiltRoom& plainRoom() {
+  static const BoxRoom room;
+  static const BuiltRoom b = build(room);
+  return b;
+}
+
 TEST(BoxRoomOctoMap, OccupiedAndFreeCellsMatchTheRoom) {
   const BoxRoom room;
-  const BuiltRoom b = build(room);
+  const BuiltRoom& b = plainRoom();
   const auto& tree = b.builder->tree();
   EXPECT_EQ(b.builder->stats().keyframes, room.size());
   checkOccupiedCellsLieOnSurfaces(room, tree);
@@ -226,10 +231,9 @@ TEST(BoxRoomOctoMap, OccupiedAndFreeCellsMatchTheRoom) {
 
 TEST(BoxRoomOctoMap, FloorAndGridWallsMatchTheFloorPlan) {
   const BoxRoom room;
-  const BuiltRoom b = build(room);
+  const BuiltRoom& b = plainRoom();
   EXPECT_EQ(b.level.floor_source, "floor layer");
-  // The floor's cells are [0, 5 cm): centres at 2.5 cm, the floor at 1.3 cm.
-  EXPECT_NEAR(b.level.floor_height, 0.025, 0.005);
+  EXPECT_NEAR(b.level.floor_height, BoxRoom::kFloorZ, 0.005);
   checkGridAgainstFloorPlan(room, b);
 }
 
@@ -243,7 +247,7 @@ TEST(BoxRoomOctoMap, TiltedWorldFrame) {
   EXPECT_GT(b.level.R.row(2).dot(up_world), std::cos(2 * M_PI / 180));
   // Floor: the level height of the room's floor.
   const double floor_level = b.level.R.row(2).dot(room.toWorld({2, 1.5, BoxRoom::kFloorZ}));
-  EXPECT_NEAR(b.level.floor_height, floor_level, 0.05);
+  EXPECT_NEAR(b.level.floor_height, floor_level, 0.02);
   checkOccupiedCellsLieOnSurfaces(room, b.builder->tree());
   checkGridAgainstFloorPlan(room, b);
 }

@@ -103,7 +103,7 @@ TEST_F(OccupancyExportCli, OctoMapWithReportAndPersonMaskedOrKept) {
   EXPECT_EQ(jsonNumber(report, "keyframes"), 30);
   EXPECT_EQ(jsonNumber(report, "occupied_cells"), double(occupiedCells(*tree).size()));
   EXPECT_GT(jsonNumber(report, "free_cells"), 10000);
-  EXPECT_NEAR(jsonNumber(report, "floor_height"), 0.025, 0.005);  // floor cells [0, 5 cm)
+  EXPECT_NEAR(jsonNumber(report, "floor_height"), BoxRoom::kFloorZ, 0.005);
   EXPECT_EQ(jsonNumber(report, "walker_share"), 0) << report;  // the run's masks cover the person
   EXPECT_EQ(jsonNumber(report, "reference_share_in_map"), 1) << report;
   EXPECT_EQ(jsonNumber(report, "map_share_in_reference"), 1) << report;

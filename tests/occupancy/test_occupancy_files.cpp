@@ -31,14 +31,18 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::unique_ptr<OccupancyMapBuilder> roomMap() {
-  DenseMapOptions dense;
-  dense.projection.max_depth = 6.0;
-  const BoxRoom room;
-  auto b = std::make_unique<OccupancyMapBuilder>(BoxRoom::camera(), dense, OccupancyMapOptions{});
-  for (std::size_t i = 0; i < room.size(); i += 2) b->addKeyframe(room.frame(i), room.pose(i));
-  b->build();
-  return b;
+/// The box room's map from every third keyframe (built once).
+const OccupancyMapBuilder& roomMap() {
+  static const std::unique_ptr<OccupancyMapBuilder> b = [] {
+    DenseMapOptions dense;
+    dense.projection.max_depth = 6.0;
+    const BoxRoom room;
+    auto m = std::make_unique<OccupancyMapBuilder>(BoxRoom::camera(), dense, OccupancyMapOptions{});
+    for (std::size_t i = 0; i < room.size(); i += 3) m->addKeyframe(room.frame(i), room.pose(i));
+    m->build();
+    return m;
+  }();
+  return *b;
 }
 
 bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
@@ -61,8 +65,8 @@ std::map<std::string, std::string> yamlFields(const std::string& text) {
 
 TEST(OctoMapFile, OctomapToolsAndTheLibraryReadIt) {
   TempDir d;
-  const auto b = roomMap();
-  writeOctoMapFile(d / "room.bt", b->tree());
+  const auto& b = roomMap();
+  writeOctoMapFile(d / "room.bt", b.tree());
   // Debian's octomap-tools (installed by scripts/install-deps.sh).
   EXPECT_EQ(std::system(("bt2vrml " + (d / "room.bt") + " > /dev/null").c_str()), 0);
   EXPECT_GT(fs::file_size(d / "room.bt.wrl"), 1000u);
@@ -71,9 +75,9 @@ TEST(OctoMapFile, OctomapToolsAndTheLibraryReadIt) {
   // octomap's reader: the same occupied cells.
   const auto back = readOctoMapFile(d / "room.bt");
   EXPECT_DOUBLE_EQ(back->getResolution(), 0.05);
-  const auto a = occupiedCells(b->tree()), c = occupiedCells(*back);
+  const auto a = occupiedCells(b.tree()), c = occupiedCells(*back);
   EXPECT_EQ(OcTreeKeySet(a.begin(), a.end()), OcTreeKeySet(c.begin(), c.end()));
-  EXPECT_EQ(countCells(*back).free, countCells(b->tree()).free);
+  EXPECT_EQ(countCells(*back).free, countCells(b.tree()).free);
   const MapData m = occupiedCellsAsMap(*back, d / "room.bt");
   EXPECT_EQ(m.points.size(), a.size());
   EXPECT_DOUBLE_EQ(m.voxel_size, 0.05);
@@ -101,8 +105,7 @@ TEST(OctoMapFile, BadFilesNameThePath) {
   }
   // Unwritable: the parent is a file. Nothing is left.
   writeText(d / "file", "x");
-  const auto b = roomMap();
-  EXPECT_THROW(writeOctoMapFile(d / "file/room.bt", b->tree()), std::runtime_error);
+  EXPECT_THROW(writeOctoMapFile(d / "file/room.bt", roomMap().tree()), std::runtime_error);
 }
 
 TEST(MapServerFiles, PgmAndYamlAsMapServerReadsThem) {
