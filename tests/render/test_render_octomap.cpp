@@ -9,27 +9,16 @@
 #include <cmath>
 
 #include "image_compare.h"
+#include "look_at.h"
 #include "occupancy/octomap_file.h"
 #include "render/map_renderer.h"
 #include "testing/test_support.h"
 
 using namespace dynslam;
 using dynslam::test::TempDir;
+using dynslam::test::lookAt;
 
 namespace {
-
-/// Camera-to-world pose at `eye` looking at `target`, image-up along +z.
-mrpt::poses::CPose3D lookAtZUp(double ex, double ey, double ez, double tx, double ty, double tz) {
-  double z[3] = {tx - ex, ty - ey, tz - ez};
-  const double nz = std::sqrt(z[0] * z[0] + z[1] * z[1] + z[2] * z[2]);
-  for (double& v : z) v /= nz;
-  double x[3] = {z[1], -z[0], 0};
-  const double nx = std::sqrt(x[0] * x[0] + x[1] * x[1]);
-  for (double& v : x) v /= nx;
-  const double y[3] = {z[1] * x[2] - z[2] * x[1], z[2] * x[0] - z[0] * x[2], z[0] * x[1] - z[1] * x[0]};
-  const double eye[3] = {ex, ey, ez};
-  return dynslam::test::poseFromColumns(x, y, z, eye);
-}
 
 MapData roomTree(const TempDir& d) {
   octomap::OcTree tree(0.1);
@@ -63,7 +52,7 @@ TEST(RenderOctoMap, RoomSnapshot) {
   const MapData map = roomTree(d);
   EXPECT_EQ(map.points.size(), 80u + 5 * (10 + 7) + 8);
   MapRenderer renderer(smallOptions());
-  const cv::Mat img = renderer.renderFromPose(map, lookAtZUp(1.7, -0.9, 1.3, 0.5, 0.4, 0.3));
+  const cv::Mat img = renderer.renderFromPose(map, lookAt(1.7, -0.9, 1.3, 0.5, 0.4, 0.3));
   const std::string msg = test::checkAgainstGolden(img, "octomap_room");
   EXPECT_TRUE(msg.empty()) << msg;
 }
@@ -76,7 +65,7 @@ TEST(RenderOctoMap, LoneCellCoversItsPredictedPixels) {
   o.background = {0, 0, 0};
   MapRenderer renderer(o);
   // 2 m in front of the cube's near face, looking along +y.
-  const cv::Mat img = renderer.renderFromPose(map, lookAtZUp(1.0, -0.1, 0.5, 1.0, 2.0, 0.5));
+  const cv::Mat img = renderer.renderFromPose(map, lookAt(1.0, -0.1, 0.5, 1.0, 2.0, 0.5));
   const PinholeCamera K = renderer.intrinsics();
   // The near face (y = 1.9, 2.0 m away) spans +-0.1 m: +-f * 0.05 px.
   const double half = K.fx * 0.1 / 2.0;
