@@ -3,12 +3,17 @@
 #include <mrpt/img/CImage.h>
 #include <mrpt/opengl/CFBORender.h>
 #include <mrpt/opengl/CFrustum.h>
+#include <mrpt/opengl/COctoMapVoxels.h>
 #include <mrpt/opengl/COpenGLScene.h>
 #include <mrpt/opengl/CPointCloudColoured.h>
 #include <mrpt/opengl/CSetOfLines.h>
 
+#include <opencv2/imgproc.hpp>
+
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <vector>
 
 #include "render/offscreen_context.h"
 
@@ -24,6 +29,46 @@ mrpt::poses::CPose3D xForwardToOptical() {
   R(1, 0) = 0;  R(1, 1) = 0;  R(1, 2) = -1;
   R(2, 0) = 1;  R(2, 1) = 0;  R(2, 2) = 0;
   return mrpt::poses::CPose3D(R, mrpt::math::CVectorFixedDouble<3>::Zero());
+}
+
+/// Voxel maps (map.voxel_size > 0) as shaded cubes coloured by their height
+/// along `up` (turbo colour map over the 2nd..98th percentile), as octovis
+/// draws OctoMaps: cells carry no colour of their own.
+mrpt::opengl::COctoMapVoxels::Ptr voxelCubes(const MapData& map, const std::array<double, 3>& up) {
+  using mrpt::opengl::COctoMapVoxels;
+  const std::size_t n = map.points.size();
+  std::vector<double> h(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto& p = map.points[i];
+    h[i] = up[0] * p.x + up[1] * p.y + up[2] * p.z;
+  }
+  std::vector<double> sorted = h;
+  std::sort(sorted.begin(), sorted.end());
+  const double lo = sorted[n / 50], hi = sorted[n - 1 - n / 50];
+  cv::Mat levels(1, int(n), CV_8UC1), colours;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double t = hi > lo ? (h[i] - lo) / (hi - lo) : 0.5;
+    levels.at<std::uint8_t>(0, int(i)) = cv::saturate_cast<std::uint8_t>(255 * std::clamp(t, 0.0, 1.0));
+  }
+  cv::applyColorMap(levels, colours, cv::COLORMAP_TURBO);
+  auto cubes = COctoMapVoxels::Create();
+  cubes->showGridLines(false);
+  cubes->resizeVoxelSets(2);  // occupied, free (empty, hidden)
+  cubes->reserveVoxels(mrpt::opengl::VOXEL_SET_OCCUPIED, n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto& p = map.points[i];
+    const cv::Vec3b bgr = colours.at<cv::Vec3b>(0, int(i));
+    cubes->push_back_Voxel(mrpt::opengl::VOXEL_SET_OCCUPIED,
+                           COctoMapVoxels::TVoxel({p.x, p.y, p.z}, map.voxel_size,
+                                                  mrpt::img::TColor(bgr[2], bgr[1], bgr[0])));
+  }
+  cubes->showVoxels(mrpt::opengl::VOXEL_SET_FREESPACE, false);
+  // The renderer culls objects by their bounding box (default: the origin).
+  const CloudBounds b = computeBounds(map.points);
+  const double half = map.voxel_size / 2;
+  cubes->setBoundingBox({b.min[0] - half, b.min[1] - half, b.min[2] - half},
+                        {b.max[0] + half, b.max[1] + half, b.max[2] + half});
+  return cubes;
 }
 
 }  // namespace
@@ -85,15 +130,24 @@ cv::Mat MapRenderer::renderFromPose(const MapData& map, const mrpt::poses::CPose
   scene.getViewport()->setCustomBackgroundColor(
       {bg[0] / 255.f, bg[1] / 255.f, bg[2] / 255.f, 1.f});
 
-  auto cloud = CPointCloudColoured::Create();
-  cloud->enableVariablePointSize(false);
-  cloud->setPointSize(options_.point_size);
-  cloud->resize(map.points.size());
-  for (std::size_t i = 0; i < map.points.size(); ++i) {
-    const auto& p = map.points[i];
-    cloud->setPoint_fast(i, mrpt::math::TPointXYZfRGBAu8(p.x, p.y, p.z, p.r, p.g, p.b, 255));
+  if (map.voxel_size > 0 && !map.points.empty()) {
+    scene.insert(voxelCubes(map, options_.up ? *options_.up : frameScene(map).up));
+    // Mostly ambient light: the default light comes from above, which
+    // leaves the faces that look at the camera nearly black.
+    auto& light = scene.getViewport()->lightParameters();
+    light.ambient = {0.6f, 0.6f, 0.6f, 1.0f};
+    light.diffuse = {0.45f, 0.45f, 0.45f, 1.0f};
+  } else {
+    auto cloud = CPointCloudColoured::Create();
+    cloud->enableVariablePointSize(false);
+    cloud->setPointSize(options_.point_size);
+    cloud->resize(map.points.size());
+    for (std::size_t i = 0; i < map.points.size(); ++i) {
+      const auto& p = map.points[i];
+      cloud->setPoint_fast(i, mrpt::math::TPointXYZfRGBAu8(p.x, p.y, p.z, p.r, p.g, p.b, 255));
+    }
+    scene.insert(cloud);
   }
-  scene.insert(cloud);
 
   if (options_.draw_trajectory && map.keyframes.size() >= 2) {
     auto lines = CSetOfLines::Create();

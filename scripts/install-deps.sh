@@ -11,6 +11,7 @@ PACKAGES=(
   libeigen3-dev                    # linear algebra, umeyama
   libpcl-dev                       # voxel grid, outlier removal, PLY I/O
   libassimp-dev                    # glTF 2.0 export
+  liboctomap-dev octomap-tools     # OctoMap export (.bt); convert_octree/bt2vrml check the files
   libosmesa6-dev                   # off-screen rendering without X or GPU
   libceres-dev                     # bundle adjustment
   libgtest-dev                     # unit tests

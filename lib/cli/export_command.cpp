@@ -1,5 +1,5 @@
-// `dynslam export RUN_DIR -o MAP.ply|MAP.glb`: thin argument layer over
-// lib/mapexport. This file opens the input sequence (data layer), so the
+// `dynslam export RUN_DIR -o MAP.ply|MAP.glb|MAP.bt|MAP.yaml`: thin argument
+// layer over lib/mapexport (dense maps) and lib/occupancy (maps to navigate). This file opens the input sequence (data layer), so the
 // exporter library itself never depends on rawlog/.
 #include <mrpt/3rdparty/tclap/CmdLine.h>
 
@@ -12,7 +12,9 @@
 #include "core/errors.h"
 #include "mapexport/dense_map_config.h"
 #include "mapexport/map_data.h"
+#include "eval/trajectory_eval.h"
 #include "mapexport/run_directory.h"
+#include "occupancy/occupancy_export.h"
 #include "rawlog/sequence_source.h"
 
 namespace dynslam::cli {
@@ -33,7 +35,53 @@ constexpr const char* kDescription =
     "memory and the estimated up direction; when the input sequence has ground-truth "
     "people masks (INPUT/masks/<rgb name>.png: 0 static, 1..127 walking, 128+ standing "
     "still), it also gives walker_mask_share: the share of map points fused from walking "
-    "people's pixels (standing-still people and the sparse map reported apart).";
+    "people's pixels (standing-still people and the sparse map reported apart). "
+    "With -o MAP.bt the keyframes' static depth is instead ray cast into an OctoMap "
+    "(occupied and free space; the same pixels left out, the occupied cells carved by the same "
+    "rules), and with -o MAP.yaml that map is projected between the floor and the robot's "
+    "height into a 2D occupancy grid in the ROS map_server format (MAP.yaml + MAP.pgm); their "
+    "report gives cell counts, the floor height and, with true masks, the share of occupied "
+    "cells inside the people's swept volume (walker_share).";
+
+/// A usage error unless `arg` is unset or the output is an occupancy map.
+void requireOccupancyOutput(const TCLAP::Arg& arg, bool occupancy) {
+  if (arg.isSet() && !occupancy) {
+    throw UsageError("--" + arg.getName() + ": only for .bt and .yaml outputs");
+  }
+}
+
+void printOccupancyExport(const OccupancyExportResult& r) {
+  std::printf("%s: %zu occupied and %zu free cells (%zu occupied before carving, %zu carved) from "
+              "%zu keyframes (%zu rays) in %.2f s (CPU %.2f s), peak %.0f MB\n",
+              r.output.c_str(), r.cells.occupied, r.cells.free, r.stats.occupied_before_carving,
+              r.stats.carved_cells, r.stats.keyframes, r.stats.rays, r.seconds, r.cpu_seconds,
+              r.peak_rss_mb);
+  std::printf("up %.4f,%.4f,%.4f (%s), floor at %.3f m (%s)\n", r.up.up[0], r.up.up[1],
+              r.up.up[2], r.up.source.c_str(), r.level.floor_height, r.level.floor_source.c_str());
+  if (r.grid) {
+    std::printf("grid %dx%d cells of %.3f m: %zu occupied, %zu free, %zu unknown\n",
+                r.grid->width, r.grid->height, r.grid->resolution,
+                r.grid->count(OccupancyGrid2D::kOccupied), r.grid->count(OccupancyGrid2D::kFree),
+                r.grid->count(OccupancyGrid2D::kUnknown));
+  }
+  if (r.swept) {
+    std::printf("walker_share %.4f %% (%zu of %zu occupied cells in the walkers' swept volume), "
+                "standing-still %.4f %%\n",
+                100 * r.swept->walkerShare(), r.swept->walker_points, r.swept->points,
+                100 * r.swept->standingShare());
+  }
+  if (r.reference) {
+    std::printf("reference %s: %.2f %% of its %zu occupied cells in this map, %.2f %% of this "
+                "map's %zu in it (within %d cell)\n",
+                r.reference_path.c_str(), 100 * r.reference->referenceShare(),
+                r.reference->reference_cells, 100 * r.reference->mapShare(),
+                r.reference->map_cells, r.reference->tolerance);
+    std::printf("reference, same cells only: %.2f %% of its cells in this map, %.2f %% of this map's "
+                "in it\n",
+                100 * r.reference_strict->referenceShare(), 100 * r.reference_strict->mapShare());
+  }
+  if (!r.report_path.empty()) std::printf("%s: export report\n", r.report_path.c_str());
+}
 
 }  // namespace
 
@@ -42,8 +90,11 @@ int exportMain(int argc, char** argv) {
   TCLAP::UnlabeledValueArg<std::string> run_arg(
       "run_dir", "output folder of `dynslam run` (keyframes.txt, run_info.yaml)", true, "",
       "RUN_DIR", cmd);
-  TCLAP::ValueArg<std::string> out_arg("o", "output", "map file to write: .ply or .glb", true,
-                                       "", "MAP", cmd);
+  TCLAP::ValueArg<std::string> out_arg(
+      "o", "output",
+      "map file to write: .ply or .glb (dense coloured points), .bt (OctoMap) or .yaml (2D "
+      "occupancy grid, with MAP.pgm)",
+      true, "", "MAP", cmd);
   TCLAP::ValueArg<double> voxel_arg("", "voxel",
                                     "voxel grid leaf in metres (0 = keep every point); "
                                     "default 0.01 or the config's map_export.voxel_leaf",
@@ -76,14 +127,61 @@ int exportMain(int argc, char** argv) {
       "ground-truth people masks folder (<rgb name>.png) to score the map against; default "
       "INPUT/masks if the input folder has one; 'none' to skip",
       false, "", "DIR", cmd);
+  TCLAP::SwitchArg no_masks_arg("", "no-masks",
+                                "ignore the run's dynamic masks (people kept, for comparison)",
+                                cmd, false);
+  TCLAP::SwitchArg truth_as_masks_arg(
+      "", "truth-as-masks",
+      "leave out the ground-truth people masks' pixels instead of the run's dynamic masks "
+      "(reference maps)",
+      cmd, false);
+  TCLAP::ValueArg<std::string> groundtruth_arg(
+      "", "groundtruth",
+      "fuse with these groundtruth poses (TUM format) instead of the run's: each keyframe takes "
+      "the groundtruth pose at its time, taken into the run's world frame by the ATE "
+      "alignment of the keyframes (reference maps)",
+      false, "", "FILE", cmd);
+  TCLAP::ValueArg<double> resolution_arg(
+      "", "resolution",
+      "OctoMap / grid cell size in metres; default 0.05 or the config's occupancy_map.resolution",
+      false, 0.05, "METRES", cmd);
+  TCLAP::ValueArg<double> floor_arg(
+      "", "floor-height",
+      "2D grid: cells lower than this above the floor are floor (default 0.10 m or the config's "
+      "occupancy_map.grid_floor_height)",
+      false, 0.10, "METRES", cmd);
+  TCLAP::ValueArg<double> robot_arg(
+      "", "robot-height",
+      "2D grid: cells higher than this above the floor do not block (default 1.20 m or the "
+      "config's occupancy_map.grid_robot_height)",
+      false, 1.20, "METRES", cmd);
+  TCLAP::ValueArg<std::string> compare_arg(
+      "", "compare",
+      "OctoMap (.bt) of the same scene to compare with (e.g. one made with --groundtruth and "
+      "--truth-as-masks): the report gives the share of its occupied cells this map also holds "
+      "within one cell, and the converse",
+      false, "", "REF.bt", cmd);
   int exit_code = kOk;
   if (!parseArguments(cmd, argc, argv, exit_code)) return exit_code;
 
-  try {
-    mapFormatFromPath(out_arg.getValue());  // bad extension: fail before any work
+  const bool occupancy = isOccupancyMapPath(out_arg.getValue());
+  try {  // bad extension: fail before any work
+    if (!occupancy) mapFormatFromPath(out_arg.getValue());
   } catch (const std::exception& e) {
-    throw UsageError(std::string("-o: ") + e.what());
+    throw UsageError(std::string("-o: ") + e.what() + " or .bt / .yaml");
   }
+  for (const TCLAP::Arg* a : std::initializer_list<const TCLAP::Arg*>{
+           &resolution_arg, &floor_arg, &robot_arg, &compare_arg}) {
+    requireOccupancyOutput(*a, occupancy);
+  }
+  if (no_masks_arg.getValue() && truth_as_masks_arg.getValue()) {
+    throw UsageError("--no-masks and --truth-as-masks exclude each other");
+  }
+  const auto apply_occupancy_overrides = [&](OccupancyMapOptions& o) {
+    if (resolution_arg.isSet()) o.resolution = resolution_arg.getValue();
+    if (floor_arg.isSet()) o.grid_floor_height = floor_arg.getValue();
+    if (robot_arg.isSet()) o.grid_robot_height = robot_arg.getValue();
+  };
   // Command-line values override the config's; checked on the defaults
   // first, so a bad value is a usage error before any file is read.
   const auto apply_overrides = [&](DenseMapOptions& o) {
@@ -97,20 +195,37 @@ int exportMain(int argc, char** argv) {
     DenseMapOptions defaults;
     apply_overrides(defaults);
     validateDenseMapOptions(defaults, "command line");
+    OccupancyMapOptions occupancy_defaults;
+    apply_occupancy_overrides(occupancy_defaults);
+    validateOccupancyOptions(occupancy_defaults, "command line");
   } catch (const InputError& e) {
     throw UsageError(e.what());
   }
 
-  const RunDirectory run = readRunDirectory(run_arg.getValue());
+  RunDirectory run = readRunDirectory(run_arg.getValue());
   DenseMapOptions options;
-  if (config_arg.isSet()) {
-    options = loadDenseMapOptions(config_arg.getValue(), options);
-  } else if (!run.config.empty() && fileExists(run.config) && !isDirectory(run.config)) {
+  OccupancyMapOptions occupancy_options;
+  std::string config = config_arg.getValue();
+  if (!config_arg.isSet() && !run.config.empty() && fileExists(run.config) &&
+      !isDirectory(run.config)) {
     std::fprintf(stderr, "map_export parameters from the run's config %s\n", run.config.c_str());
-    options = loadDenseMapOptions(run.config, options);
+    config = run.config;
+  }
+  if (!config.empty()) {
+    options = loadDenseMapOptions(config, options);
+    if (occupancy) occupancy_options = loadOccupancyOptions(config, occupancy_options);
   }
   apply_overrides(options);
   validateDenseMapOptions(options, "command line");
+  apply_occupancy_overrides(occupancy_options);
+  validateOccupancyOptions(occupancy_options, "command line");
+  if (groundtruth_arg.isSet()) {
+    const std::size_t n = run.keyframes.size();
+    run.keyframes = groundtruthInEstimateFrame(readTumTrajectory(groundtruth_arg.getValue()),
+                                               run.keyframes);
+    std::fprintf(stderr, "groundtruth poses for %zu of %zu keyframes from %s\n",
+                 run.keyframes.size(), n, groundtruth_arg.getValue().c_str());
+  }
 
   const std::string camera = camera_arg.isSet() ? camera_arg.getValue() : run.camera_config;
   const auto source = openSequence(run.input, camera, run.sensor);
@@ -122,6 +237,16 @@ int exportMain(int argc, char** argv) {
   ExportOptions eo;
   eo.frame_timestamps = stamps.size() == source->size() ? &stamps : nullptr;
   if (truth_arg.isSet()) eo.truth_masks_dir = truth_arg.getValue() == "none" ? "" : truth_arg.getValue();
+  if (no_masks_arg.getValue()) eo.masks = DynamicMaskSource::kNone;
+  if (truth_as_masks_arg.getValue()) eo.masks = DynamicMaskSource::kTruth;
+  if (occupancy) {
+    OccupancyExportOptions oo;
+    oo.run = eo;
+    oo.reference = compare_arg.getValue();
+    printOccupancyExport(exportOccupancyRun(run, *source, out_arg.getValue(), options,
+                                            occupancy_options, oo));
+    return kOk;
+  }
   const ExportResult r = exportRun(run, *source, out_arg.getValue(), options, eo);
   std::printf("%s: %zu points (%zu back-projected from %zu keyframes, %zu after voxel grid, "
               "%zu carved in %.2f s) in %.2f s, peak %.0f MB\n",

@@ -13,6 +13,7 @@
 #include "core/trajectory.h"
 #include "mapexport/map_data.h"
 #include "mapexport/up_estimation.h"
+#include "occupancy/octomap_file.h"
 #include "render/map_renderer.h"
 #include "render/snapshot_file.h"
 #include "render/view_spec.h"
@@ -47,8 +48,9 @@ std::array<double, 3> parseTriple(const std::string& text, const std::string& wh
 
 int renderMain(int argc, char** argv) {
   TCLAP::CmdLine cmd(kDescription, ' ', DYNSLAM_VERSION);
-  TCLAP::UnlabeledValueArg<std::string> map_arg("map", "map file (.ply or .glb)", true, "",
-                                                "MAP", cmd);
+  TCLAP::UnlabeledValueArg<std::string> map_arg(
+      "map", "map file (.ply or .glb; .bt: an OctoMap's occupied cells, drawn as cubes coloured by height)",
+      true, "", "MAP", cmd);
   TCLAP::ValueArg<std::string> out_arg("o", "output", "PNG file to write", true, "", "OUT.png",
                                        cmd);
   TCLAP::ValueArg<std::string> view_arg(
@@ -103,7 +105,9 @@ int renderMain(int argc, char** argv) {
     throw UsageError(e.what());
   }
 
-  MapData map = readMapFile(map_arg.getValue());
+  MapData map = isOctoMapPath(map_arg.getValue())
+                    ? occupiedCellsAsMap(*readOctoMapFile(map_arg.getValue()), map_arg.getValue())
+                    : readMapFile(map_arg.getValue());
   if (traj_arg.isSet()) map.keyframes = readTumTrajectory(traj_arg.getValue());
 
   std::string up_note = "given";

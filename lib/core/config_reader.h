@@ -73,6 +73,17 @@ class ConfigSection {
   std::set<std::string> known_;
 };
 
+/// "a, b, c": the keys of an option list. for_each(f) must call
+/// f(key, field) once per option (the forEach...Option functions).
+template <class ForEach>
+std::string optionKeyList(ForEach&& for_each) {
+  std::string keys;
+  for_each([&](const char* key, const auto&) {
+    keys += keys.empty() ? key : std::string(", ") + key;
+  });
+  return keys;
+}
+
 /// Loads a YAML file; throws a one-line InputError(path[:line]) if it is
 /// missing, not valid YAML, repeats a key within a mapping, or holds
 /// something other than a mapping (an empty file is an empty mapping).

@@ -19,5 +19,8 @@ inline double secondsSince(SteadyClock::time_point t0) {
 
 /// Peak resident set size of this process so far, in MB (getrusage).
 double peakRssMb();
+/// User + system CPU time of this process so far (seconds, all threads):
+/// on a shared machine wall times mostly measure the other jobs.
+double processCpuSeconds();
 
 }  // namespace dynslam

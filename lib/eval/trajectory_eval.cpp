@@ -2,6 +2,7 @@
 
 #include <Eigen/Geometry>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -147,6 +148,24 @@ std::vector<Eigen::Vector3d> alignedEstimatePositions(const Trajectory& estimate
     const auto& p = estimate.at(est_index).pose;
     out.push_back(R * Eigen::Vector3d(p.x(), p.y(), p.z()) + t);
   }
+  return out;
+}
+
+Trajectory groundtruthInEstimateFrame(const Trajectory& groundtruth, const Trajectory& estimate,
+                                      double max_dt) {
+  const AteResult ate = computeAte(groundtruth, estimate, max_dt);
+  mrpt::math::CMatrixDouble44 inverse;
+  const Eigen::Matrix4d inv = ate.alignment.inverse();
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) inverse(r, c) = inv(r, c);
+  const mrpt::poses::CPose3D gt_to_estimate(inverse);
+  Trajectory out;
+  out.reserve(ate.matches.size());
+  for (const auto& [gt_index, est_index] : ate.matches) {
+    out.push_back({estimate[est_index].timestamp, gt_to_estimate + groundtruth[gt_index].pose});
+  }
+  std::sort(out.begin(), out.end(),
+            [](const StampedPose& a, const StampedPose& b) { return a.timestamp < b.timestamp; });
   return out;
 }
 

@@ -93,6 +93,15 @@ AteResult computeAte(const Trajectory& groundtruth, const Trajectory& estimate,
 std::vector<Eigen::Vector3d> alignedEstimatePositions(const Trajectory& estimate,
                                                       const AteResult& ate);
 
+/// Groundtruth poses in the estimate's world frame, for maps built from
+/// groundtruth that overlay the estimate's map: for every estimate pose that
+/// associates with groundtruth (as computeAte pairs them), the groundtruth
+/// pose taken into the estimate's frame by the inverse of the ATE alignment,
+/// stamped with the estimate's timestamp (unassociated poses are left out).
+/// Throws EvaluationError as computeAte does.
+Trajectory groundtruthInEstimateFrame(const Trajectory& groundtruth, const Trajectory& estimate,
+                                      double max_dt = kDefaultMaxDt);
+
 struct RpeDelta {
   enum class Unit { kSeconds, kFrames };
   double value = 1.0;

@@ -12,12 +12,8 @@ void readDenseMapOptions(ConfigSection s, DenseMapOptions& o) {
 }
 
 std::string denseMapOptionKeys() {
-  std::string keys;
   const DenseMapOptions defaults;
-  forEachDenseMapOption(defaults, [&](const char* key, const auto&) {
-    keys += keys.empty() ? key : std::string(", ") + key;
-  });
-  return keys;
+  return optionKeyList([&](auto&& f) { forEachDenseMapOption(defaults, f); });
 }
 
 DenseMapOptions loadDenseMapOptions(const std::string& path, DenseMapOptions defaults) {

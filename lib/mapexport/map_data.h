@@ -14,6 +14,9 @@ namespace dynslam {
 struct MapData {
   ColoredCloud points;
   Trajectory keyframes;  ///< camera-to-world; empty for PLY files
+  /// > 0: the points are the centres of cubic cells of this side (metres),
+  /// e.g. an OctoMap's occupied cells; renderers draw cubes.
+  double voxel_size = 0;
 };
 
 /// Map file formats, chosen by the file extension (case-insensitive).

@@ -18,6 +18,7 @@
 #include "core/timing.h"
 #include "mapexport/dense_map_config.h"
 #include "mapexport/ply_io.h"
+#include "mapexport/run_keyframes.h"
 
 namespace dynslam {
 
@@ -65,6 +66,14 @@ RunDirectory readRunDirectory(const std::string& dir) {
   return run;
 }
 
+void writeExportOrigin(JsonWriter& j, const RunDirectory& run, const FrameSource& source,
+                       const std::string& out_path) {
+  j.value("run_dir", run.dir)
+      .value("input", run.input)
+      .value("source", source.description())
+      .value("output", out_path);
+}
+
 std::string exportReportPath(const std::string& out_path) {
   fs::path p(out_path);
   return (p.parent_path() / (p.stem().string() + ".export.json")).string();
@@ -86,12 +95,9 @@ void writeReport(const std::string& path, const RunDirectory& run, const FrameSo
                  const std::map<std::string, double>& phases,
                  const DenseMaskProvenance* provenance) {
   JsonWriter j;
-  j.beginObject()
-      .value("run_dir", run.dir)
-      .value("input", run.input)
-      .value("source", source.description())
-      .value("output", out_path)
-      .value("keyframes", r.stats.keyframes)
+  j.beginObject();
+  writeExportOrigin(j, run, source, out_path);
+  j.value("keyframes", r.stats.keyframes)
       .value("backprojected_points", r.stats.backprojected_points)
       .value("after_voxel", r.stats.after_voxel)
       .value("carved_points", r.stats.carved_points)
@@ -109,13 +115,7 @@ void writeReport(const std::string& path, const RunDirectory& run, const FrameSo
   j.beginObject("options");
   forEachDenseMapOption(o, [&](const char* key, const auto& field) { j.value(key, field); });
   j.endObject();
-  j.beginObject("up")
-      .value("source", r.up.source)
-      .value("plane_share", r.up.plane_share)
-      .value("angle_to_keyframe_estimate_deg", r.up.prior_angle_deg);
-  j.beginArray("direction");
-  for (double v : r.up.up) j.element(v);
-  j.endArray().endObject();
+  writeUpEstimateJson(j, r.up);
   // Ground truth: absent when the input has no masks/ (JSON null would
   // look like a measured 0).
   if (r.dense_truth) {
@@ -160,19 +160,7 @@ ExportResult exportRun(const RunDirectory& run, const FrameSource& source,
   };
   std::map<std::string, double> phases;
   mapFormatFromPath(out_path);  // reject a bad extension before the slow part
-  const std::vector<double>* frame_timestamps = export_options.frame_timestamps;
-  if (frame_timestamps && frame_timestamps->size() != source.size()) {
-    throw std::invalid_argument("exportRun: frame_timestamps size differs from the source");
-  }
-  std::string truth_dir;
-  if (export_options.truth_masks_dir) {
-    truth_dir = *export_options.truth_masks_dir;
-    if (!truth_dir.empty() && !isDirectory(truth_dir)) {
-      throw InputError(truth_dir, "ground-truth masks folder not found");
-    }
-  } else if (isDirectory(run.input) && isDirectory(run.input + "/masks")) {
-    truth_dir = run.input + "/masks";
-  }
+  const std::string truth_dir = truthMasksDirFor(run, export_options);
   // Read the sparse map first: a malformed map_points.txt fails the export
   // before anything is written.
   std::optional<ColoredCloud> sparse;
@@ -180,58 +168,11 @@ ExportResult exportRun(const RunDirectory& run, const FrameSource& source,
   std::optional<SparseMaskScorer> sparse_scorer;
   if (sparse && !truth_dir.empty()) sparse_scorer.emplace(*sparse, source.camera());
 
-  auto timestampOf = [&](std::size_t i, RGBDFrame& loaded, bool& is_loaded) {
-    if (frame_timestamps) return (*frame_timestamps)[i];
-    loaded = source.load(i);
-    is_loaded = true;
-    return loaded.timestamp;
-  };
-
-  // Keyframes are time-ordered (readTumTrajectory enforces it) and so are
-  // the frames: one forward walk matches them, loading each frame at most once.
   DenseMapBuilder builder(source.camera(), options);
-  std::size_t next = 0;
-  for (const auto& kf : run.keyframes) {
-    bool found = false;
-    while (next < source.size()) {
-      RGBDFrame frame;
-      bool is_loaded = false;
-      const double t = timestampOf(next, frame, is_loaded);
-      if (t < kf.timestamp - 1e-4) {
-        ++next;
-        continue;
-      }
-      if (std::abs(t - kf.timestamp) < 1e-4) {
-        if (!is_loaded) frame = source.load(next);
-        cv::Mat mask;
-        const std::string mask_path = run.maskPath(kf.timestamp);
-        if (fileExists(mask_path)) {
-          mask = cv::imread(mask_path, cv::IMREAD_UNCHANGED);
-          if (mask.empty() || mask.type() != CV_8UC1) {
-            throw InputError(mask_path, "dynamic mask must be an 8-bit single-channel PNG");
-          }
-          if (mask.size() != frame.depth.size()) {
-            throw InputError(mask_path, "dynamic mask size differs from the images");
-          }
-        }
-        cv::Mat truth;
-        if (!truth_dir.empty()) {
-          truth = loadTruthMask(truthMaskPath(truth_dir, frame.rgb_source), frame.depth.size());
-          if (sparse_scorer) sparse_scorer->addKeyframe(frame.depth, kf.pose, truth);
-        }
-        builder.addKeyframe(frame, kf.pose, mask, truth);
-        found = true;
-        ++next;
-      }
-      break;
-    }
-    if (!found) {
-      char ts[64];
-      std::snprintf(ts, sizeof(ts), "%.6f", kf.timestamp);
-      throw InputError(run.keyframesPath(), std::string("keyframe ") + ts +
-                                                " has no frame in " + source.description());
-    }
-  }
+  forEachRunKeyframe(run, source, export_options, truth_dir, [&](const RunKeyframe& k) {
+    if (sparse_scorer) sparse_scorer->addKeyframe(k.frame.depth, k.keyframe->pose, k.truth);
+    builder.addKeyframe(k.frame, k.keyframe->pose, k.dynamic_mask, k.truth);
+  });
   phases["load_and_fuse"] = since(t_start);
 
   const fs::path out_dir = fs::path(out_path).parent_path();

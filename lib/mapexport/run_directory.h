@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "core/json_writer.h"
 #include "core/rgbd_frame.h"
 #include "core/trajectory.h"
 #include "mapexport/dense_map_builder.h"
@@ -44,6 +45,13 @@ struct RunDirectory {
 /// the run folder if it exists there, else kept as written.
 RunDirectory readRunDirectory(const std::string& dir);
 
+/// Which dynamic masks the exporters leave out of the map.
+enum class DynamicMaskSource {
+  kRun,    ///< the run's dynamic_masks/ (the default)
+  kNone,   ///< none: people kept (`--no-masks`, for comparison)
+  kTruth,  ///< the ground-truth people masks (label > 0), for reference maps
+};
+
 struct ExportOptions {
   /// RGB timestamps of source's frames (index i = frame i, e.g.
   /// tumPairTimestamps() of a TUM folder): with them only the keyframes'
@@ -54,6 +62,7 @@ struct ExportOptions {
   /// to score the map against. nullopt: RUN's input folder's masks/ if it
   /// has one; "": do not score.
   std::optional<std::string> truth_masks_dir;
+  DynamicMaskSource masks = DynamicMaskSource::kRun;
   /// Export report (JSON); empty: exportReportPath(out_path).
   std::string report_path;
   bool write_report = true;
@@ -74,6 +83,10 @@ struct ExportResult {
   std::optional<MaskShare> dense_truth;
   std::optional<SparseMaskShare> sparse_truth;  ///< also needs map_points.txt
 };
+
+/// The export reports' first keys: run_dir, input, source, output.
+void writeExportOrigin(JsonWriter& j, const RunDirectory& run, const FrameSource& source,
+                       const std::string& out_path);
 
 /// MAP.ply -> MAP.export.json (same folder, extension replaced).
 std::string exportReportPath(const std::string& out_path);

@@ -117,4 +117,14 @@ UpEstimate estimateMapUp(const MapData& map, std::array<double, 3> fallback,
   return result;
 }
 
+void writeUpEstimateJson(JsonWriter& j, const UpEstimate& up) {
+  j.beginObject("up")
+      .value("source", up.source)
+      .value("plane_share", up.plane_share)
+      .value("angle_to_keyframe_estimate_deg", up.prior_angle_deg);
+  j.beginArray("direction");
+  for (double v : up.up) j.element(v);
+  j.endArray().endObject();
+}
+
 }  // namespace dynslam

@@ -20,6 +20,7 @@
 #include <cstddef>
 #include <string>
 
+#include "core/json_writer.h"
 #include "mapexport/map_data.h"
 
 namespace dynslam {
@@ -52,5 +53,9 @@ struct UpEstimate {
 /// estimate (or `fallback` without keyframes) when no plane qualifies.
 UpEstimate estimateMapUp(const MapData& map, std::array<double, 3> fallback = {0, 0, 1},
                          const UpEstimateOptions& options = {});
+
+/// The report object "up": source, plane_share, the angle to the keyframe
+/// estimate and the direction (the export reports share it).
+void writeUpEstimateJson(JsonWriter& j, const UpEstimate& up);
 
 }  // namespace dynslam

@@ -15,6 +15,7 @@
 #include "core/errors.h"
 #include "core/interrupt.h"
 #include "core/json_writer.h"
+#include "core/stats.h"
 #include "core/staged_folder.h"
 #include "core/progress.h"
 #include "core/run_layout.h"

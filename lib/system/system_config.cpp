@@ -189,6 +189,7 @@ SlamConfig loadSlamConfig(const std::string& path) {
   l.global_ba_params = c.mapper.ba;
 
   root.sub("map_export");  // read by `dynslam export` (lib/mapexport/dense_map_config)
+  root.sub("occupancy_map");  // read by `dynslam export -o MAP.bt|.yaml` (lib/occupancy)
   root.rejectUnknownKeys();
   return c;
 }

@@ -55,6 +55,7 @@ TEST(ExitCodes, ExportRangeErrors) {
                    "mask_margin");
   expectUsageError({"export", d / "run", "-o", d / "m.ply", "--voxel", "-1"}, "voxel_leaf");
   expectUsageError({"export", d / "run", "-o", d / "m.xyz"}, "m.xyz");
+  expectUsageError({"export", d / "run", "-o", d / "m.ply", "--resolution", "0.1"}, "--resolution");
   EXPECT_TRUE(entriesIn(d.path()).empty());
 }
 

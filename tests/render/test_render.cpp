@@ -9,6 +9,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "image_compare.h"
+#include "look_at.h"
 #include "mapexport/map_data.h"
 #include "render/map_renderer.h"
 #include "render/view_spec.h"
@@ -17,23 +18,9 @@
 using namespace dynslam;
 using dynslam::test::checkAgainstGolden;
 using dynslam::test::TempDir;
+using dynslam::test::lookAt;
 
 namespace {
-
-/// Camera-to-world pose at `eye` looking at `target`, image-up along +z.
-mrpt::poses::CPose3D lookAt(double ex, double ey, double ez, double tx, double ty, double tz) {
-  double z[3] = {tx - ex, ty - ey, tz - ez};
-  const double nz = std::sqrt(z[0] * z[0] + z[1] * z[1] + z[2] * z[2]);
-  for (double& v : z) v /= nz;
-  // x = z cross up(0,0,1), y = z cross x
-  double x[3] = {z[1], -z[0], 0};
-  const double nx = std::sqrt(x[0] * x[0] + x[1] * x[1]);
-  for (double& v : x) v /= nx;
-  const double y[3] = {z[1] * x[2] - z[2] * x[1], z[2] * x[0] - z[0] * x[2],
-                       z[0] * x[1] - z[1] * x[0]};
-  const double eye[3] = {ex, ey, ez};
-  return dynslam::test::poseFromColumns(x, y, z, eye);
-}
 
 /// Points on the surface of the cube [-0.5, 0.5]^3, coloured by position,
 /// and four keyframes looking at it from one side (z up).
