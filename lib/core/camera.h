@@ -33,7 +33,8 @@ PinholeCamera loadCameraYaml(const std::string& path);
 /// configs/ folder: $DYNSLAM_CONFIG_DIR if set, else the source tree's configs/.
 std::string configDir();
 
-/// Picks configs/tum_fr{1,2,3}.yaml from a sequence path containing
+/// The sequence folder's own camera.yaml when it has one (rendered sequences),
+/// else configs/tum_fr{1,2,3}.yaml from a sequence path containing
 /// "freiburg1/2/3" (or "fr1/2/3"); throws InputError naming the path if none.
 std::string cameraConfigForSequence(const std::string& sequence_path);
 
