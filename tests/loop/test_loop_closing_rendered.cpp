@@ -58,17 +58,14 @@ double errorAt(const SyntheticData& data, const LoopRun& run, std::size_t i) {
   return 1e9;
 }
 
-const SyntheticData& twoLaps() {
-  static const SyntheticData data(twoLapParams());
-  return data;
-}
-
 }  // namespace
 
-// Measured: without loop closing ATE 0 mm, drift at the revisit 0 mm; with
-// it 1 loop at frames (0 -> 0), 0 points fused, ATE 0 mm.
+// Measured: without loop closing ATE 55 mm, drift at the revisit 63 mm;
+// with it 1 loop (keyframes of frames 165 -> 19), 205 points merged and 541
+// fused, ATE 6 mm, error at the revisit 8 mm. Both runs ~60 s on the loaded
+// machine (~25 s of CPU).
 TEST(LoopClosingRendered, ClosesTheLoopOfTwoLapsAndHalvesTheError) {
-  const SyntheticData& data = twoLaps();
+  const SyntheticData& data = twoLapData();
   const std::size_t n = data.size();
   const LoopRun off = runOn(data, n, false);
   const LoopRun on = runOn(data, n, true);
@@ -102,8 +99,9 @@ TEST(LoopClosingRendered, ClosesTheLoopOfTwoLapsAndHalvesTheError) {
 }
 
 // Frames 0..105 (0.7 lap) never come back to a place: no loop is closed.
+// Measured: 14 keyframes checked, 0 verified, 0 closed.
 TEST(LoopClosingRendered, ClosesNoLoopWithoutARevisit) {
-  const SyntheticData& data = twoLaps();
+  const SyntheticData& data = twoLapData();
   const LoopRun run = runOn(data, 106, true);
   EXPECT_EQ(run.tracked, 106u);
   RecordProperty("verifications", static_cast<int>(run.loops.verifications));

@@ -127,6 +127,11 @@ cv::Mat SyntheticData::mask(std::size_t i) const {
 
 Trajectory SyntheticData::groundtruth() const { return readTumTrajectory(dir_ + "/groundtruth.txt"); }
 
+const SyntheticData& twoLapData() {
+  static const SyntheticData data(twoLapParams());
+  return data;
+}
+
 double centreDistance(const mrpt::poses::CPose3D& a, const mrpt::poses::CPose3D& b) {
   return std::hypot(a.x() - b.x(), a.y() - b.y(), a.z() - b.z());
 }

@@ -58,6 +58,9 @@ class SyntheticData {
   synth::RoomWorld geometry_;
 };
 
+/// The two-lap sequence, rendered (or found in the cache) on first use.
+const SyntheticData& twoLapData();
+
 /// Distance between the centres of two camera poses (m).
 double centreDistance(const mrpt::poses::CPose3D& a, const mrpt::poses::CPose3D& b);
 /// Angle of a^-1 b (deg).
