@@ -40,5 +40,6 @@ int exportMain(int argc, char** argv);
 int renderMain(int argc, char** argv);
 int vocabMain(int argc, char** argv);
 int benchMain(int argc, char** argv);
+int synthMain(int argc, char** argv);
 
 }  // namespace dynslam::cli

@@ -99,6 +99,9 @@ PinholeCamera loadCameraYaml(const std::string& path) {
 }
 
 std::string cameraConfigForSequence(const std::string& sequence_path) {
+  // A sequence that carries its calibration (rendered ones: dynslam synth).
+  const std::filesystem::path own = std::filesystem::path(sequence_path) / "camera.yaml";
+  if (std::filesystem::is_directory(sequence_path) && std::filesystem::is_regular_file(own)) return own.string();
   static const std::regex re("(freiburg|fr)([123])", std::regex::icase);
   std::smatch m;
   const std::string name =

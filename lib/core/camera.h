@@ -36,7 +36,8 @@ struct PinholeCamera {
 /// Throws InputError naming the file on missing keys or bad values.
 PinholeCamera loadCameraYaml(const std::string& path);
 
-/// Picks configDir()/tum_fr{1,2,3}.yaml (core/data_paths.h) from a sequence path containing
+/// The sequence folder's own camera.yaml when it has one (rendered sequences),
+/// else configDir()/tum_fr{1,2,3}.yaml (core/data_paths.h) from a sequence path containing
 /// "freiburg1/2/3" (or "fr1/2/3"); throws InputError naming the path if none.
 std::string cameraConfigForSequence(const std::string& sequence_path);
 

@@ -225,6 +225,8 @@ bool LoopClosing::verifyAndClose(KeyFrame* kf, KeyFrame* cand) {
   groups_.clear();
   std::lock_guard<std::mutex> lk(stats_mutex_);
   stats_.loops_closed++;
+  stats_.points_merged += static_cast<std::size_t>(cs.merged);
+  stats_.points_fused += static_cast<std::size_t>(cs.fused);
   stats_.loops.emplace_back(kf->id, cand->id);
   stats_.correct_ms.push_back(msSince(t0));
   if (gba_ms >= 0) {

@@ -45,6 +45,9 @@ struct LoopClosingStats {
   std::size_t keyframes_indexed = 0, keyframes_checked = 0, candidates = 0,
               verifications = 0, loops_closed = 0, global_bas = 0,
               relocalisation_queries = 0;
+  /// Over all closures: duplicate map points merged into the loop's and
+  /// points fused by projection (LoopCorrectionStats).
+  std::size_t points_merged = 0, points_fused = 0;
   std::vector<double> detect_ms, correct_ms, global_ba_ms;
   std::vector<std::pair<long, long>> loops;  ///< (current, loop) keyframe ids
 };
