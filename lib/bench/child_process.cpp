@@ -6,11 +6,12 @@
 #include <sys/wait.h>
 
 #include <cerrno>
-#include <chrono>
 #include <cstring>
 #include <deque>
 #include <fstream>
 #include <stdexcept>
+
+#include "core/timing.h"
 
 extern char** environ;
 
@@ -34,7 +35,7 @@ ChildResult runChildProcess(const std::vector<std::string>& argv, const std::str
   posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
   posix_spawn_file_actions_addclose(&actions, STDIN_FILENO);
 
-  const auto t0 = std::chrono::steady_clock::now();
+  const auto t0 = SteadyClock::now();
   pid_t pid = 0;
   const int err = posix_spawn(&pid, args[0], &actions, nullptr, args.data(), environ);
   posix_spawn_file_actions_destroy(&actions);
@@ -50,7 +51,7 @@ ChildResult runChildProcess(const std::vector<std::string>& argv, const std::str
   if (waited < 0) throw std::runtime_error("wait4 on " + argv[0] + ": " + std::strerror(errno));
 
   ChildResult r;
-  r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  r.wall_s = secondsSince(t0);
   r.peak_rss_mb = ru.ru_maxrss / 1024.0;  // KiB on Linux
   if (WIFEXITED(status)) {
     r.exit_code = WEXITSTATUS(status);

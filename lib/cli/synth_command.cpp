@@ -3,11 +3,11 @@
 // loop the loop-closing benchmark runs on.
 #include <mrpt/3rdparty/tclap/CmdLine.h>
 
-#include <chrono>
 #include <cstdio>
 
 #include "cli/commands.h"
 #include "core/progress.h"
+#include "core/timing.h"
 #include "synth/synthetic_sequence.h"
 #include "synth/tum_sequence_writer.h"
 
@@ -44,13 +44,13 @@ int synthMain(int argc, char** argv) {
   p.path.frames_per_lap = fpl_arg.getValue();
   p.room.movers = movers_arg.getValue();
   p.depth.noise_scale = noise_arg.getValue();
-  const auto t0 = std::chrono::steady_clock::now();
+  const auto t0 = SteadyClock::now();
   synth::SyntheticSequence seq(p);
   ProgressLine progress("rendering, frame", static_cast<std::size_t>(seq.size()));
   const int n = synth::writeTumSequence(seq, out_arg.getValue(),
                                         [&](int i, int) { progress.update(static_cast<std::size_t>(i)); });
   progress.finish();
-  const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const double s = secondsSince(t0);
   std::printf("%s: %d frames (%d x %d), %.1f s\n", out_arg.getValue().c_str(), n, seq.camera().width,
               seq.camera().height, s);
   return kOk;

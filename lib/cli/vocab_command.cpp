@@ -5,7 +5,6 @@
 #include <mrpt/3rdparty/tclap/CmdLine.h>
 #include <unistd.h>
 
-#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <stdexcept>

@@ -3,7 +3,6 @@
 #include <opencv2/features2d.hpp>
 
 #include <algorithm>
-#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 

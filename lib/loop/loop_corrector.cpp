@@ -1,7 +1,6 @@
 #include "loop/loop_corrector.h"
 
 #include <algorithm>
-#include <chrono>
 #include <map>
 #include <mutex>
 #include <set>

@@ -4,7 +4,6 @@
 #include <mrpt/poses/Lie/SE.h>
 
 #include <algorithm>
-#include <chrono>
 #include <stdexcept>
 
 #include "core/timing.h"

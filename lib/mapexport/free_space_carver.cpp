@@ -4,10 +4,11 @@
 #include <opencv2/imgproc.hpp>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <stdexcept>
 #include <utility>
+
+#include "core/timing.h"
 
 namespace dynslam {
 namespace {
@@ -242,7 +243,7 @@ std::vector<std::uint8_t> FreeSpaceCarver::keepFlags(const ColoredCloud& cloud,
 }
 
 ColoredCloud FreeSpaceCarver::carve(const ColoredCloud& cloud, CarvingStats* stats) const {
-  const auto t0 = std::chrono::steady_clock::now();
+  const auto t0 = SteadyClock::now();
   const std::vector<std::uint8_t> keep = keepFlags(cloud);
   ColoredCloud out;
   out.reserve(cloud.size());
@@ -253,7 +254,7 @@ ColoredCloud FreeSpaceCarver::carve(const ColoredCloud& cloud, CarvingStats* sta
     stats->points = cloud.size();
     stats->removed = cloud.size() - out.size();
     stats->seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        secondsSince(t0);
   }
   return out;
 }

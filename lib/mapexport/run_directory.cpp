@@ -4,7 +4,6 @@
 
 #include <opencv2/imgcodecs.hpp>
 
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -153,11 +152,7 @@ ExportResult exportRun(const RunDirectory& run, const FrameSource& source,
 ExportResult exportRun(const RunDirectory& run, const FrameSource& source,
                        const std::string& out_path, const DenseMapOptions& options,
                        const ExportOptions& export_options) {
-  using Clock = std::chrono::steady_clock;
-  const auto t_start = Clock::now();
-  auto since = [](Clock::time_point t) {
-    return std::chrono::duration<double>(Clock::now() - t).count();
-  };
+  const auto t_start = SteadyClock::now();
   std::map<std::string, double> phases;
   mapFormatFromPath(out_path);  // reject a bad extension before the slow part
   const std::string truth_dir = truthMasksDirFor(run, export_options);
@@ -173,16 +168,16 @@ ExportResult exportRun(const RunDirectory& run, const FrameSource& source,
     if (sparse_scorer) sparse_scorer->addKeyframe(k.frame.depth, k.keyframe->pose, k.truth);
     builder.addKeyframe(k.frame, k.keyframe->pose, k.dynamic_mask, k.truth);
   });
-  phases["load_and_fuse"] = since(t_start);
+  phases["load_and_fuse"] = secondsSince(t_start);
 
   const fs::path out_dir = fs::path(out_path).parent_path();
   if (!out_dir.empty()) makeDirectories(out_dir.string());
 
-  auto t_phase = Clock::now();
+  auto t_phase = SteadyClock::now();
   MapData map;
   map.points = builder.build();
   map.keyframes = run.keyframes;
-  phases["voxel_and_outliers"] = since(t_phase) - builder.stats().carving_seconds;
+  phases["voxel_and_outliers"] = secondsSince(t_phase) - builder.stats().carving_seconds;
   phases["free_space_carving"] = builder.stats().carving_seconds;
   // The sparse map gets the same free-space and dynamic-vote carving as the
   // dense one (people's points that the dynamic filter let into the SLAM
@@ -192,7 +187,7 @@ ExportResult exportRun(const RunDirectory& run, const FrameSource& source,
   std::vector<std::uint8_t> sparse_keep;
   ExportResult result;
   if (sparse && builder.carver() && builder.carver()->keyframes() > 1) {
-    t_phase = Clock::now();
+    t_phase = SteadyClock::now();
     sparse_keep = builder.carver()->keepFlags(*sparse, /*apply_min_confirmations=*/false);
     ColoredCloud kept;
     for (std::size_t i = 0; i < sparse->size(); ++i) {
@@ -200,17 +195,17 @@ ExportResult exportRun(const RunDirectory& run, const FrameSource& source,
     }
     result.sparse_carved_points = sparse->size() - kept.size();
     *sparse = std::move(kept);
-    phases["free_space_carving"] += since(t_phase);
+    phases["free_space_carving"] += secondsSince(t_phase);
   }
 
-  t_phase = Clock::now();
+  t_phase = SteadyClock::now();
   result.up = estimateMapUp(map);
-  phases["up_estimate"] = since(t_phase);
-  t_phase = Clock::now();
+  phases["up_estimate"] = secondsSince(t_phase);
+  t_phase = SteadyClock::now();
   MapWriteOptions write_options;
   write_options.camera = source.camera();
   writeMapFile(out_path, map, write_options);
-  phases["write"] = since(t_phase);
+  phases["write"] = secondsSince(t_phase);
 
   result.stats = builder.stats();
   result.points_written = map.points.size();
@@ -221,14 +216,14 @@ ExportResult exportRun(const RunDirectory& run, const FrameSource& source,
     writeSparsePointsPly(result.sparse_path, *sparse);
   }
   if (!truth_dir.empty()) {
-    t_phase = Clock::now();
+    t_phase = SteadyClock::now();
     result.truth_masks_dir = truth_dir;
     result.dense_truth = builder.truthShare(map.points);
     if (!result.dense_truth) result.dense_truth = MaskShare{map.points.size(), 0, 0};
     if (sparse_scorer) result.sparse_truth = sparse_scorer->score(sparse_keep);
-    phases["truth_score"] = since(t_phase);
+    phases["truth_score"] = secondsSince(t_phase);
   }
-  result.seconds = since(t_start);
+  result.seconds = secondsSince(t_start);
   result.peak_rss_mb = peakRssMb();
   if (export_options.write_report) {
     result.report_path = export_options.report_path.empty() ? exportReportPath(out_path)

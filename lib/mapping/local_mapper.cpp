@@ -4,7 +4,6 @@
 #include "mapping/map_ba_problem.h"
 
 #include <Eigen/Dense>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>

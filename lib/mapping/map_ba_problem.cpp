@@ -1,6 +1,5 @@
 #include "mapping/map_ba_problem.h"
 
-#include <chrono>
 #include <memory>
 #include <mutex>
 #include <unordered_set>

@@ -2,16 +2,12 @@
 
 #include <octomap/Pointcloud.h>
 
-#include <chrono>
 #include <stdexcept>
 
 #include "core/timing.h"
 #include "occupancy/octree_cells.h"
 
 namespace dynslam {
-namespace {
-
-}  // namespace
 
 OccupancyMapBuilder::OccupancyMapBuilder(const PinholeCamera& camera, const DenseMapOptions& dense,
                                          const OccupancyMapOptions& options)

@@ -1,6 +1,5 @@
 #include "system/frame_prefetcher.h"
 
-#include <chrono>
 #include <stdexcept>
 
 #include "core/timing.h"

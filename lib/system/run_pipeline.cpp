@@ -4,7 +4,6 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
-#include <chrono>
 #include <filesystem>
 #include <iomanip>
 #include <sstream>
