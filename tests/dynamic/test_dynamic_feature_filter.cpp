@@ -8,6 +8,7 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include <array>
 #include <vector>
 
 #include "dynamic/dynamic_feature_filter.h"
@@ -369,4 +370,60 @@ TEST(DynamicFeatureFilterTwoPhases, CrowdFillingTheViewIsFlaggedNotTheWalls) {
     // walker's edge, where occlusion spoils a good part of the LK tracks.)
     EXPECT_LT(after.background_flagged, (k == 1 ? 0.08 : 0.2) * after.background) << k;
   }
+}
+
+// An object that enters the view (a patch absent from frames 0-1, standing
+// in frame 2 on): in its first frame nothing was tracked onto it, so none of
+// its keypoints may become a map point: each is unjudged (or flagged, where
+// LK slid a wall point onto it), while the wall's are judged static. One
+// frame later it has been tracked and is judged static too.
+TEST(DynamicFeatureFilterTwoPhases, KeypointsOfWhatEntersTheViewAreUnjudgedOnce) {
+  cv::RNG rng(9);
+  const cv::Mat wall = test::noiseTexture(rng, {W + 60, H + 60}), patch = test::noiseTexture(rng, {100, 100});
+  auto at = [](int k) { return cv::Rect(120 - 6 * k, 70, 100, 100); };  // static at 2 m
+  Sequence s;
+  for (int k = 0; k < 4; ++k) {
+    cv::Mat g = wall(cv::Rect(30 + 4 * k, 30, W, H)).clone();
+    cv::Mat d(H, W, CV_16U, cv::Scalar(3.0 * 5000));
+    if (k >= 2) {
+      patch.copyTo(g(at(k)));
+      d(at(k)).setTo(2.0 * 5000);
+    }
+    s.add(k, g, d);
+  }
+  DynamicFeatureFilter filter(flowOnly(), test::sceneCamera());
+  // Shares of the keypoints inside the patch / on the wall clear of it that
+  // may become map points (judged and not flagged), and inside it unjudged.
+  auto mappable = [&](std::size_t k, const std::vector<uint8_t>& dynamic) {
+    const std::vector<uint8_t> u = filter.unjudgedKeypoints();
+    EXPECT_EQ(u.size(), s.keypoints[k].size());
+    const cv::Rect inner(at(int(k)).x + 10, at(int(k)).y + 10, 80, 80);
+    const cv::Rect outer(at(int(k)).x - 15, at(int(k)).y - 15, 130, 130);
+    int in = 0, in_mappable = 0, in_unjudged = 0, out = 0, out_mappable = 0;
+    for (std::size_t i = 0; i < u.size() && i < s.keypoints[k].size(); ++i) {
+      const cv::Point p(cvRound(s.keypoints[k][i].pt.x), cvRound(s.keypoints[k][i].pt.y));
+      const int ok = !u[i] && !dynamic[i];
+      if (inner.contains(p)) ++in, in_mappable += ok, in_unjudged += u[i];
+      else if (!outer.contains(p) && p.x < W - 20) ++out, out_mappable += ok;  // the right edge enters the view too
+    }
+    EXPECT_GT(in, 20);
+    return std::array<double, 3>{double(in_mappable) / std::max(1, in), double(out_mappable) / std::max(1, out),
+                                 double(in_unjudged) / std::max(1, in)};
+  };
+  step(filter, s, 0, posed(0));
+  EXPECT_TRUE(filter.unjudgedKeypoints().empty()) << "nothing judged in the first frame";
+  step(filter, s, 1, posed(1));
+  const Phases entering = step(filter, s, 2, posed(2));
+  ASSERT_TRUE(entering.changed);
+  const auto first = mappable(2, entering.judged);
+  RecordProperty("entering_mappable_pct", int(100 * first[0]));
+  RecordProperty("wall_mappable_pct", int(100 * first[1]));  // measured 0 and 100
+  EXPECT_LT(first[0], 0.05);
+  EXPECT_GT(first[1], 0.95);
+  const Phases next = step(filter, s, 3, posed(3));
+  ASSERT_TRUE(next.changed);
+  const auto second = mappable(3, next.judged);
+  RecordProperty("next_frame_mappable_pct", int(100 * second[0]));  // measured 67 (the rest flagged)
+  EXPECT_LT(second[2], 0.05) << "tracked since the frame before";
+  EXPECT_GT(second[1], 0.95);
 }

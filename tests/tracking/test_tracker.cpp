@@ -321,3 +321,45 @@ TEST(Tracker, MatchesOnKeypointsFlaggedAfterThePoseAreDropped) {
   RecordProperty("revised_keyframes", static_cast<int>(revised_keyframes));
   EXPECT_GE(revised_keyframes, 2u);  // measured 3
 }
+
+// Keypoints the dynamic stage could not judge yet (FeatureSet::unjudged: the
+// right half of every frame here) may match map points but never become new
+// ones; the judged half keeps the map growing and the motion at the truth.
+TEST(Tracker, UnjudgedKeypointsNeverBecomeNewMapPoints) {
+  const SyntheticData& data = twoLapData();
+  SlamConfig cfg = harnessConfig();
+  cfg.tracker.max_frames_between_kf = 3;  // keyframes often
+  TrackingHarness h(data.camera(), cfg);
+  std::size_t checked_keyframes = 0, new_on_judged = 0;
+  std::vector<mrpt::poses::CPose3D> est;
+  for (std::size_t i = 0; i < 60; ++i) {
+    auto f = h.features(data.frame(i));
+    std::vector<uint8_t> unjudged;
+    const std::size_t kfs_before = h.map().keyFrameCount();
+    const TrackResult r = h.track(f, i, data.frame(i).timestamp, [&](FeatureSet& fs) {
+      if (i == 0) return false;  // the first frame is the map's start: all judged
+      fs.unjudged.assign(fs.size(), 0);
+      for (std::size_t k = 0; k < fs.size(); ++k) fs.unjudged[k] = fs.keys[k].pt.x >= 320;
+      unjudged = fs.unjudged;
+      return true;
+    });
+    ASSERT_TRUE(r.has_pose) << i;
+    est.push_back(r.pose_wc);
+    if (i >= 5) EXPECT_LT(relativeError(data, i - 5, est[i - 5], i, est[i]), 0.07) << i;
+    if (i == 0 || h.map().keyFrameCount() == kfs_before) continue;
+    std::lock_guard<std::mutex> lk(h.map().mutex());
+    KeyFrame* kf = h.map().keyFrames().back();
+    ASSERT_EQ(kf->frame_index, i);
+    ++checked_keyframes;
+    for (std::size_t k = 0; k < unjudged.size(); ++k) {
+      const MapPoint* mp = kf->points[k];
+      if (!mp || mp->first_kf_id != kf->id) continue;
+      EXPECT_FALSE(unjudged[k]) << "new point on unjudged keypoint " << k << " of frame " << i;
+      new_on_judged += !unjudged[k];
+    }
+  }
+  RecordProperty("keyframes", static_cast<int>(checked_keyframes));
+  RecordProperty("new_points_on_judged", static_cast<int>(new_on_judged));
+  EXPECT_GE(checked_keyframes, 5u);
+  EXPECT_GT(new_on_judged, 200u);
+}
