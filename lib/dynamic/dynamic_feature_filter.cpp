@@ -12,6 +12,64 @@
 
 namespace dynslam {
 namespace {
+/// The previous frame's lost tracks (LK failed) that something now covers:
+/// under the tracker's motion the point should be at depth z, and the
+/// current depth there is nearer by more than 10 % (a surface in front of
+/// it, not depth noise: a Kinect's is ~3 % at 4 m, and blur, which also
+/// loses tracks, leaves the depth where it was). Returned as their raw pixel
+/// positions in the current frame (the previous raw position moved by the
+/// undistorted prediction).
+std::vector<cv::Point2f> coveredTracksNow(const std::vector<cv::Point2f>& prev_points,
+                                          const std::vector<uint8_t>& tracked, const cv::Mat& prev_depth,
+                                          const cv::Mat& cur_depth, const PinholeCamera& camera,
+                                          const CameraMotion& motion) {
+  std::vector<cv::Point2f> lost;
+  for (std::size_t i = 0; i < prev_points.size(); ++i)
+    if (i >= tracked.size() || !tracked[i]) lost.push_back(prev_points[i]);
+  if (lost.empty() || prev_depth.empty() || cur_depth.empty()) return {};
+  // (cur_depth only fills c.cur_depth, unused here)
+  const Correspondences c = buildCorrespondences(lost, lost, prev_depth, prev_depth, camera, {});
+  const cv::Matx33d K(camera.fx, 0, camera.cx, 0, camera.fy, camera.cy, 0, 0, 1);
+  std::vector<cv::Point2f> now;
+  for (std::size_t k = 0; k < lost.size(); ++k) {
+    const cv::Point3f& X = c.prev_xyz[k];
+    if (X.z <= 0) continue;  // without depth nothing tells cover from blur
+    const cv::Vec3d Y = motion.R * cv::Vec3d(X.x, X.y, X.z) + motion.t;
+    if (Y[2] <= 0) continue;
+    const cv::Vec3d p = K * (Y / Y[2]);
+    const cv::Point2f q(lost[k].x + float(p[0] - c.prev[k].x), lost[k].y + float(p[1] - c.prev[k].y));
+    const int u = cvRound(q.x), v = cvRound(q.y);
+    if (u < 0 || v < 0 || u >= cur_depth.cols || v >= cur_depth.rows) continue;
+    const double z_now = cur_depth.at<uint16_t>(v, u) / camera.depth_scale;
+    if (z_now > 0 && z_now < 0.9 * Y[2]) now.push_back(q);
+  }
+  return now;
+}
+
+/// 1 for each keypoint within `radius` (px) of a covered track's position
+/// and farther than that from every tracked point: on something that came
+/// in front of what the previous frame tracked, which nothing has judged
+/// yet. (Where the previous frame had nothing - the edge the camera turns
+/// towards - or lost tracks to blur, keypoints stay judged.)
+std::vector<uint8_t> keypointsOnCoveredTracks(const std::vector<cv::KeyPoint>& keys,
+                                           const std::vector<cv::Point2f>& points,
+                                           const std::vector<uint8_t>& tracked,
+                                           const std::vector<cv::Point2f>& covered_now, cv::Size size,
+                                           double radius) {
+  cv::Mat near_tracked = cv::Mat::zeros(size, CV_8U), near_lost = cv::Mat::zeros(size, CV_8U);
+  const int r = std::max(1, int(std::lround(radius)));
+  for (std::size_t i = 0; i < points.size() && i < tracked.size(); ++i)
+    if (tracked[i]) cv::circle(near_tracked, points[i], r, cv::Scalar(255), cv::FILLED);
+  for (const cv::Point2f& q : covered_now) cv::circle(near_lost, q, r, cv::Scalar(255), cv::FILLED);
+  std::vector<uint8_t> out(keys.size(), 0);
+  for (std::size_t k = 0; k < keys.size(); ++k) {
+    const int u = cvRound(keys[k].pt.x), v = cvRound(keys[k].pt.y);
+    if (u < 0 || v < 0 || u >= size.width || v >= size.height) continue;
+    out[k] = near_lost.at<uint8_t>(v, u) && !near_tracked.at<uint8_t>(v, u);
+  }
+  return out;
+}
+
 // Share of the map's keypoints (map_inlier[i], where valid[i]; valid may be
 // empty: all) that `flags` marks dynamic; NaN without any, so that every
 // comparison with a bound is false.
@@ -86,6 +144,7 @@ cv::Mat DynamicFeatureFilter::prepare(const RGBDFrame& frame, const cv::Mat& gra
   ++frame_;
   prepared_frame_ = frame_;
   mask_ = cv::Mat::zeros(gray.size(), CV_8UC1);
+  unjudged_.clear();
   if (detector_) detector_->submit(frame.rgb, frame_);
 
   // Pyramid of this frame (the pipeline reuses its grey buffer: keep a copy);
@@ -297,6 +356,15 @@ bool DynamicFeatureFilter::judge(const cv::Matx44d& prev_pose_wc, const TrackedP
     return false;
   }
   dynamic = std::move(verdict);
+  // One track spacing: the image area per LK point of this judgement.
+  const cv::Size size = j.cur_depth.size();
+  const double spacing = std::sqrt(double(size.area()) / double(std::max<std::size_t>(1, j.prev_points.size())));
+  unjudged_ = keypointsOnCoveredTracks(j.keypoints, j.cur_points, ev.r.tracked,
+                                    coveredTracksNow(j.prev_points, ev.r.tracked, j.prev_depth,
+                                                     j.cur_depth, camera_, known),
+                                    size, spacing);
+  const std::size_t unjudged = std::size_t(std::count(unjudged_.begin(), unjudged_.end(), 1));
+  unjudged_count_ += unjudged;
   // The flags are the judgement's; the pixel mask (lastMask(), what the
   // dense export leaves out of a keyframe) keeps the pre-flags too: a pixel
   // either saw moving stays out of the map, which other keyframes fill in.
@@ -304,8 +372,8 @@ bool DynamicFeatureFilter::judge(const cv::Matx44d& prev_pose_wc, const TrackedP
   ++judged_frames_;
   writeDebugImage(j.box_mask, ev.mask);
   if (!debug_dir_.empty())
-    std::fprintf(stderr, "[dynamic] frame %ld: judged under the tracker's motion: %zu flagged\n",
-                 frame_, flagged);
+    std::fprintf(stderr, "[dynamic] frame %ld: judged under the tracker's motion: %zu flagged, %zu unjudged\n",
+                 frame_, flagged, unjudged);
   // The next frame goes on from these verdicts.
   selectFlowPoints(j.keypoints, ev.carried, ev.carried_age);
   prev_motion_mask_ = ev.mask;

@@ -116,6 +116,12 @@ class DynamicFeatureFilter : public ObservationPreprocessor {
   /// whether it judged (and so rewrote `dynamic`).
   bool frameTracked(std::size_t index, const TrackedPose& pose,
                     std::vector<uint8_t>& dynamic) override;
+  /// The keypoints of the last judgement that lie where the previous
+  /// frame's tracks were lost because something nearer now covers them
+  /// (under the tracker's motion), with no track surviving within one track
+  /// spacing (the image area per LK point): what came in front has not been
+  /// judged. (New view at the image edge, or tracks lost to blur, are not.)
+  std::vector<uint8_t> unjudgedKeypoints() const override { return unjudged_; }
 
   /// Dynamic-pixel mask (CV_8U, 255 = dynamic) of the last processed frame;
   /// after the judgement (frameTracked), its union with the pre-flags.
@@ -127,6 +133,8 @@ class DynamicFeatureFilter : public ObservationPreprocessor {
   std::size_t judgedFrames() const { return judged_frames_; }
   /// Judgements not used (max_map_inliers_flagged).
   std::size_t rejectedJudgements() const { return rejected_judgements_; }
+  /// Keypoints found unjudged so far (unjudgedKeypoints), over all frames.
+  std::size_t unjudgedKeypointCount() const { return unjudged_count_; }
   /// Per-stage times (ms), one sample per processed frame: pyramid, lk,
   /// boxes (carrying + box depth mask), total; and one per judged frame:
   /// judge.
@@ -209,6 +217,8 @@ class DynamicFeatureFilter : public ObservationPreprocessor {
     std::vector<Detection> boxes;
     std::vector<cv::KeyPoint> keypoints;
   } judge_;
+  std::vector<uint8_t> unjudged_;  ///< of the last judgement (unjudgedKeypoints)
+  std::size_t unjudged_count_ = 0;
   std::size_t judged_frames_ = 0;
   std::size_t rejected_judgements_ = 0;
 };

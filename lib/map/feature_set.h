@@ -26,6 +26,12 @@ struct FeatureSet {
   std::vector<float> depth;           ///< metres; <= 0: no valid depth
   std::vector<float> ur;              ///< virtual right u; < 0: no depth
   std::vector<uint8_t> dynamic;       ///< 1: on a moving object, ignored by SLAM
+  /// 1: no motion evidence judged this keypoint yet (it lies where the
+  /// previous frame had nothing to track: an object entering the view, or
+  /// the edge the camera turns towards). Tracking may match it to map
+  /// points; no new map point is made from it, so whatever enters the view
+  /// is judged once before it can enter the map. Empty: all judged.
+  std::vector<uint8_t> unjudged;
   std::vector<cv::Vec3b> colors;      ///< BGR at each keypoint (for map exports)
   /// Keypoint indices per grid cell (static keypoints only).
   std::vector<std::vector<int>> grid;
@@ -34,6 +40,7 @@ struct FeatureSet {
   std::vector<std::vector<int>> dynamic_grid;
 
   std::size_t size() const { return keys.size(); }
+  bool isUnjudged(std::size_t i) const { return i < unjudged.size() && unjudged[i]; }
   const uint8_t* descriptor(std::size_t i) const { return descriptors.ptr<uint8_t>(static_cast<int>(i)); }
   /// Static keypoints within radius r (square window) of (x, y) whose level
   /// lies in [min_level, max_level] (-1: no bound).

@@ -250,6 +250,7 @@ RunSummary runSlam(const RunOptions& opt) {
         .value("detector_runs", filter->detectorRuns())
         .value("judged_frames", filter->judgedFrames())
         .value("rejected_judgements", filter->rejectedJudgements())
+        .value("unjudged_keypoints", filter->unjudgedKeypointCount())
         .value("keyframe_masks", keyframe_masks.size())
         .endObject();
   }

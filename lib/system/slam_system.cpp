@@ -90,6 +90,7 @@ FrameOutcome SlamSystem::process(const RGBDFrame& frame) {
       }
       if (preprocessor_->frameTracked(frame.index, tracked, feats->dynamic)) {
         out.dynamic_before_tracking = std::move(before);
+        feats->unjudged = preprocessor_->unjudgedKeypoints();
         feats->buildGrids();
         changed = true;
       }

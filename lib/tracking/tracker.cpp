@@ -170,7 +170,7 @@ void Tracker::updateLastFrame() {
 std::vector<int> Tracker::pointsFromDepth(const FeatureSet& f, bool skip_dynamic) const {
   std::vector<std::pair<float, int>> by_depth;
   for (std::size_t i = 0; i < f.size(); ++i)
-    if (f.depth[i] > 0 && !(skip_dynamic && f.dynamic[i]))
+    if (f.depth[i] > 0 && !(skip_dynamic && (f.dynamic[i] || f.isUnjudged(i))))
       by_depth.emplace_back(f.depth[i], static_cast<int>(i));
   std::sort(by_depth.begin(), by_depth.end());
   std::vector<int> out;
@@ -471,7 +471,7 @@ bool Tracker::needNewKeyFrame() const {
   const FeatureSet& f = cur_.f();
   int close_tracked = 0, close_untracked = 0;
   for (std::size_t i = 0; i < f.size(); ++i) {
-    if (f.dynamic[i] || f.depth[i] <= 0 || f.depth[i] >= f.ctx->close_depth) continue;
+    if (f.dynamic[i] || f.isUnjudged(i) || f.depth[i] <= 0 || f.depth[i] >= f.ctx->close_depth) continue;
     if (isMapInlier(i)) ++close_tracked;
     else ++close_untracked;
   }

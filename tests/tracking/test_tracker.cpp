@@ -345,7 +345,9 @@ TEST(Tracker, UnjudgedKeypointsNeverBecomeNewMapPoints) {
     });
     ASSERT_TRUE(r.has_pose) << i;
     est.push_back(r.pose_wc);
-    if (i >= 5) EXPECT_LT(relativeError(data, i - 5, est[i - 5], i, est[i]), 0.07) << i;
+    if (i >= 5) {
+      EXPECT_LT(relativeError(data, i - 5, est[i - 5], i, est[i]), 0.07) << i;
+    }
     if (i == 0 || h.map().keyFrameCount() == kfs_before) continue;
     std::lock_guard<std::mutex> lk(h.map().mutex());
     KeyFrame* kf = h.map().keyFrames().back();
