@@ -325,7 +325,7 @@ void readMapBody(ByteReader& r, Map& map, std::shared_ptr<const FrameContext> ct
     const long frame_id = r.i64();
     const double timestamp = r.f64();
     const std::size_t frame_index = r.u64();
-    const CameraPose pose(readPose(r));
+    const CameraPose pose = CameraPose::exact(readPose(r));
     const bool keep = r.u8() != 0;
     KeyFrame* kf = map.restoreKeyFrame(id, frame_id, timestamp, frame_index, readFeatures(r, ctx), pose);
     kf->keep = keep;

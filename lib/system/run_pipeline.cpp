@@ -97,11 +97,13 @@ RunSummary runSlam(const RunOptions& opt) {
   if (opt.mode != "off" && cfg.dynamic.orb_features > 0) cfg.orb.n_features = cfg.dynamic.orb_features;
   SlamSystem slam(cfg, source->camera());
   mapio::LoadedMap loaded;
-  double map_load_s = 0, rss_after_load = 0;
+  double map_load_s = 0, map_load_cpu_s = 0, rss_after_load = 0;
   if (!opt.map_path.empty()) {
     const auto tl = SteadyClock::now();
+    const double cpu0 = processCpuSeconds();
     loaded = slam.loadMap(opt.map_path, opt.localize);
     map_load_s = secondsSince(tl);
+    map_load_cpu_s = processCpuSeconds() - cpu0;
     rss_after_load = peakRssMb();
   }
   std::unique_ptr<DynamicFeatureFilter> filter;
@@ -262,6 +264,7 @@ RunSummary runSlam(const RunOptions& opt) {
         .value("keyframes", loaded.keyframes)
         .value("map_points", loaded.map_points)
         .value("load_s", map_load_s)
+        .value("load_cpu_s", map_load_cpu_s)
         .value("peak_rss_mb_after_load", rss_after_load);
     if (opt.localize) w.value("unchanged", map_unchanged);
     w.endObject();

@@ -21,7 +21,7 @@ namespace {
 
 constexpr uint64_t kVoc = 0x1234abcd5678ef00ull;
 constexpr int kKeyPoints = 60;
-constexpr int kKeyFrames = 4;
+constexpr int kKeyFrames = 12;
 
 std::shared_ptr<const FrameContext> ctx() {
   static const std::shared_ptr<const FrameContext> c = idealFrameContext();
@@ -55,7 +55,11 @@ std::shared_ptr<FeatureSet> features(unsigned seed) {
 void buildMap(Map& map) {
   std::vector<KeyFrame*> kfs;
   for (int k = 0; k < kKeyFrames + 1; ++k) {
-    const mrpt::poses::CPose3D wc(0.1 * k, 0.02 * k, 0, 0.05 * k, -0.01 * k, 0.02);
+    // Rotations as composed by tracking (not exactly on SO(3) until a
+    // CameraPose projects them): the loaded pose must keep those bits.
+    mrpt::poses::CPose3D wc;
+    for (int step = 0; step <= k * 7; ++step)
+      wc = wc + mrpt::poses::CPose3D(0.01, 0.002 * step, 0, 0.031, -0.017, 0.023);
     kfs.push_back(map.createKeyFrame(10 * k, 100.0 + 0.1 * k, 10 * k, features(k + 1), CameraPose(wc)));
   }
   for (int i = 0; i < 40; ++i) {

@@ -107,6 +107,42 @@ TEST_F(SavedMap, LocalisationTracksInTheMapsFrameAndLeavesItUnchanged) {
   EXPECT_GT(worstError(truth_in_map, frozen).second, 3 * 3.0);
 }
 
+TEST_F(SavedMap, SecondSessionGoesOnInTheMapAndSavesItGrown) {
+  const std::string second = *dir_ / "second";
+  const CommandResult r =
+      runDynslam({"run", rpyDir(), "--mode", "off", "--deterministic", "--max-frames",
+                  std::to_string(kFrames), "--map", mapFile(), "--save-map", "-o", second});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  cv::FileStorage report(second + "/report.json", cv::FileStorage::READ | cv::FileStorage::FORMAT_JSON);
+  cv::FileStorage mapped(mapping() + "/report.json", cv::FileStorage::READ | cv::FileStorage::FORMAT_JSON);
+  ASSERT_TRUE(report.isOpened());
+  EXPECT_EQ(static_cast<int>(report["loaded_map"]["keyframes"]), static_cast<int>(mapped["keyframes"]));
+  EXPECT_GE(static_cast<int>(report["tracked_frames"]), kFrames - 2);
+  ASSERT_GE(report["relocalisations"].size(), 1u);
+  EXPECT_LE(static_cast<int>(report["relocalisations"][0]["frame"]), 2);
+  // The saved map holds the loaded keyframes (the same sequence again adds
+  // few points: its places are mapped already).
+  const int points_before = static_cast<int>(mapped["map_points"]);
+  EXPECT_GT(static_cast<int>(report["map_points"]), points_before / 2);
+  EXPECT_LT(static_cast<int>(report["map_points"]), points_before * 3 / 2);
+  EXPECT_GT(fs::file_size(second + "/map.dsm"), fs::file_size(mapFile()) / 2);
+  const Trajectory gt = readTumTrajectory(rpyDir() + "/groundtruth.txt");
+  const Trajectory truth_in_map = groundtruthInEstimateFrame(gt, readTumTrajectory(mapping() + "/trajectory.txt"));
+  const auto [pos, rot] = worstError(truth_in_map, readTumTrajectory(second + "/trajectory.txt"));
+  EXPECT_LT(pos, 0.05);
+  EXPECT_LT(rot, 3.0);
+}
+
+TEST_F(SavedMap, ExportWorksOnALocalisationRun) {
+  const std::string loc = *dir_ / "loc_export";
+  CommandResult r = runDynslam({"run", rpyDir(), "--mode", "off", "--max-frames", "10", "--map",
+                                mapFile(), "--localize", "-o", loc});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  r = runDynslam({"export", loc, "-o", loc + "/map.ply"});
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_GT(fs::file_size(loc + "/map.ply"), 10000u);
+}
+
 TEST_F(SavedMap, BadMapFilesExit1AndWriteNothing) {
   const std::string bytes = bytesOf(mapFile());
   struct Case {
