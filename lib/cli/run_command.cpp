@@ -54,6 +54,18 @@ int runMain(int argc, char** argv) {
                                  "local mapping in the tracking thread: identical output on "
                                  "every run (slower)",
                                  cmd);
+  TCLAP::ValueArg<std::string> map(
+      "", "map",
+      "start in a map saved by --save-map (docs/map_file.md): the first frame relocalises in it "
+      "by bag of words and poses are in its world frame; without --localize mapping goes on in "
+      "it (a second session). The map must come from the same camera, pyramid and vocabulary",
+      false, "", "MAP.dsm", cmd);
+  TCLAP::SwitchArg localize("", "localize",
+                            "with --map: track only, against the loaded map (relocalising "
+                            "whenever lost); no keyframes or map points are added and the map "
+                            "is not changed (report.json loaded_map.unchanged)",
+                            cmd);
+  TCLAP::SwitchArg save_map("", "save-map", "also write the final map to OUT_DIR/map.dsm", cmd);
   int exit_code = kOk;
   if (!parseArguments(cmd, argc, argv, exit_code)) return exit_code;
   if (max_frames.isSet() && max_frames.getValue() < 1)
@@ -69,6 +81,12 @@ int runMain(int argc, char** argv) {
   o.mode = mode.getValue();
   o.max_frames = static_cast<std::size_t>(max_frames.getValue());
   if (deterministic.getValue()) o.deterministic = 1;
+  if (localize.getValue() && !map.isSet()) throw UsageError("--localize needs --map MAP.dsm");
+  if (localize.getValue() && save_map.getValue())
+    throw UsageError("--save-map with --localize: localisation does not change the map");
+  o.map_path = map.getValue();
+  o.localize = localize.getValue();
+  o.save_map = save_map.getValue();
   InterruptGuard interrupt;  // Ctrl-C: the frames so far are written
   const RunSummary s = runSlam(o);
   std::printf("%zu frames, %zu tracked (%.1f %%), %zu keyframes, %zu map points, %.1f frames/s\n"

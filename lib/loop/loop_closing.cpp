@@ -57,6 +57,8 @@ void LoopClosing::keyFrameMapped(KeyFrame* kf) {
   queue_.push(kf);
 }
 
+void LoopClosing::indexLoadedKeyFrame(KeyFrame* kf) { db_.add(kf, describe(kf->f())); }
+
 void LoopClosing::keyFrameCulled(KeyFrame* kf) { db_.erase(kf); }
 
 std::vector<KeyFrame*> LoopClosing::relocalisationCandidates(const FeatureSet& f) {

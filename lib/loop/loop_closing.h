@@ -63,6 +63,9 @@ class LoopClosing : public MappedKeyFrameListener, public RelocalisationCandidat
   void keyFrameMapped(KeyFrame* kf) override;
   void keyFrameCulled(KeyFrame* kf) override;
   std::vector<KeyFrame*> relocalisationCandidates(const FeatureSet& f) override;
+  /// Indexes a keyframe of a map read from a file for place recognition
+  /// (no loop check: its map was corrected when it was made).
+  void indexLoadedKeyFrame(KeyFrame* kf);
 
   /// Waits until every queued keyframe was checked (and loops closed).
   void flush();

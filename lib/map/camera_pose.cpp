@@ -27,6 +27,17 @@ void CameraPose::set(const mrpt::poses::CPose3D& wc) {
   // rounding push the rotation away from SO(3); since inverses use the
   // transpose, that error would grow frame after frame. Project back first.
   wc_ = orthonormalized(wc);
+  cache();
+}
+
+CameraPose CameraPose::exact(const mrpt::poses::CPose3D& wc) {
+  CameraPose p;
+  p.wc_ = wc;
+  p.cache();
+  return p;
+}
+
+void CameraPose::cache() {
   const auto& R = wc_.getRotationMatrix();
   for (int r = 0; r < 3; ++r)
     for (int c = 0; c < 3; ++c) Rwc_(r, c) = R(r, c);

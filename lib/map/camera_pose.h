@@ -18,6 +18,9 @@ class CameraPose {
   explicit CameraPose(const mrpt::poses::CPose3D& wc) { set(wc); }
 
   void set(const mrpt::poses::CPose3D& wc);
+  /// A pose whose rotation was orthonormalised already (one read back from a
+  /// map file): taken as it is, so saving it again gives the same bits.
+  static CameraPose exact(const mrpt::poses::CPose3D& wc);
   const mrpt::poses::CPose3D& wc() const { return wc_; }
   /// World point -> camera frame.
   Eigen::Vector3d toCamera(const Eigen::Vector3d& pw) const { return Rcw_ * pw + tcw_; }
@@ -30,6 +33,7 @@ class CameraPose {
   const Eigen::Matrix3d& Rwc() const { return Rwc_; }
 
  private:
+  void cache();
   mrpt::poses::CPose3D wc_;
   Eigen::Matrix3d Rcw_, Rwc_;
   Eigen::Vector3d tcw_, Ow_;

@@ -57,6 +57,15 @@ void KeyFrame::sortConnections() {
   for (auto& e : v) ordered_.push_back(e.second);
 }
 
+void KeyFrame::restoreGraph(KeyFrame* parent_kf,
+                            const std::map<KeyFrame*, int, KeyFrameIdLess>& edges) {
+  weights_ = edges;
+  sortConnections();
+  parent = parent_kf;
+  if (parent) parent->children.insert(this);
+  first_connection_ = parent == nullptr;
+}
+
 std::vector<KeyFrame*> KeyFrame::bestCovisibles(std::size_t n) const {
   if (ordered_.size() <= n) return ordered_;
   return std::vector<KeyFrame*>(ordered_.begin(), ordered_.begin() + n);

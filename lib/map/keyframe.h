@@ -54,6 +54,12 @@ class KeyFrame {
   std::vector<KeyFrame*> bestCovisibles(std::size_t n) const;
   const std::vector<KeyFrame*>& orderedCovisibles() const { return ordered_; }
   int weight(KeyFrame* kf) const;
+  /// Covisibility edges as stored (keyframe -> shared map points).
+  const std::map<KeyFrame*, int, KeyFrameIdLess>& connections() const { return weights_; }
+  /// Sets the graph of a keyframe read back from a file (lib/mapio): its
+  /// edges as saved and its spanning-tree parent (nullptr: none yet, so the
+  /// next updateConnections() links one, as for a new keyframe).
+  void restoreGraph(KeyFrame* parent_kf, const std::map<KeyFrame*, int, KeyFrameIdLess>& edges);
   /// Median depth of the keyframe's map points in its own camera.
   double medianSceneDepth() const;
 

@@ -19,6 +19,15 @@ class Map {
                            std::shared_ptr<const FeatureSet> features,
                            const CameraPose& pose);
   MapPoint* createMapPoint(const Eigen::Vector3d& pos, KeyFrame* ref);
+  /// For a map read back from a file (lib/mapio): objects with their saved
+  /// ids, then the saved id counters. Throws std::invalid_argument when an id
+  /// is not above every id before it (the file is corrupt).
+  KeyFrame* restoreKeyFrame(long id, long frame_id, double timestamp, std::size_t frame_index,
+                            std::shared_ptr<const FeatureSet> features, const CameraPose& pose);
+  MapPoint* restoreMapPoint(long id, const Eigen::Vector3d& pos, KeyFrame* ref);
+  void restoreNextIds(long next_kf_id, long next_point_id);
+  long nextKeyFrameId() const { return next_kf_id_; }
+  long nextMapPointId() const { return next_point_id_; }
 
   /// Keyframes / map points not flagged bad, in creation order.
   std::vector<KeyFrame*> keyFrames() const;

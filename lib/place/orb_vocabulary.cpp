@@ -51,7 +51,7 @@ uint64_t hashBytes(uint64_t h, const void* data, std::size_t n) {
   return h;
 }
 
-uint64_t checksum(const VocabularyTree& t) {
+uint64_t treeChecksum(const VocabularyTree& t) {
   uint64_t h = 0xcbf29ce484222325ULL;
   h = hashBytes(h, t.note.data(), t.note.size());
   h = hashBytes(h, t.centres.data(), t.centres.size() * sizeof(BinaryDescriptor));
@@ -142,6 +142,8 @@ std::string OrbVocabulary::index() {
   return "";
 }
 
+uint64_t OrbVocabulary::checksum() const { return treeChecksum(tree_); }
+
 OrbVocabulary OrbVocabulary::load(const std::string& path) {
   std::unique_ptr<std::FILE, FileCloser> f(std::fopen(path.c_str(), "rb"));
   if (!f) throw InputError(path, std::string("cannot open vocabulary (") + std::strerror(errno) + ")");
@@ -192,7 +194,7 @@ OrbVocabulary OrbVocabulary::load(const std::string& path) {
   read(t.centres.data(), t.centres.size() * sizeof(BinaryDescriptor));
   read(t.child_count.data(), t.child_count.size());
   read(t.idf.data(), t.idf.size() * sizeof(float));
-  if (checksum(t) != getField<uint64_t>(h, kOffChecksum))
+  if (treeChecksum(t) != getField<uint64_t>(h, kOffChecksum))
     throw InputError(path, "checksum mismatch: the vocabulary file is corrupt");
 
   OrbVocabulary voc;
@@ -216,7 +218,7 @@ void OrbVocabulary::save(const std::string& path) const {
   putField<uint32_t>(h, kOffNodes, static_cast<uint32_t>(nodes()));
   putField<uint32_t>(h, kOffWords, static_cast<uint32_t>(words()));
   putField<uint32_t>(h, kOffNote, static_cast<uint32_t>(tree_.note.size()));
-  putField<uint64_t>(h, kOffChecksum, checksum(tree_));
+  putField<uint64_t>(h, kOffChecksum, treeChecksum(tree_));
   writeFileAtomically(
       path,
       [&](std::ostream& os) {

@@ -64,6 +64,9 @@ class OrbVocabulary {
   float idf(WordId w) const { return tree_.idf.at(w); }
   const std::string& note() const { return tree_.note; }
   const VocabularyTree& tree() const { return tree_; }
+  /// The checksum its file stores (over the note and the node arrays): the
+  /// vocabulary's identity, e.g. for maps whose BoW vectors depend on it.
+  uint64_t checksum() const;
 
   /// The word of one descriptor; `node_at_depth` (optional) receives its
   /// ancestor at `depth` (1 = a child of the root), or the word's node when

@@ -77,6 +77,10 @@ double latestStageMs(const StageTimes& times, const std::string& stage, std::siz
 RunSummary runSlam(const RunOptions& opt) {
   if (opt.mode != "off" && opt.mode != "detect" && opt.mode != "flow" && opt.mode != "detect+flow")
     throw std::runtime_error("--mode " + opt.mode + ": expected off, detect, flow or detect+flow");
+  if (opt.localize && opt.map_path.empty())
+    throw std::invalid_argument("localisation needs a map (--map MAP.dsm)");
+  if (opt.localize && opt.save_map)
+    throw std::invalid_argument("--save-map with --localize: localisation does not change the map");
   const std::string config_path = opt.config_path.empty() ? defaultSlamConfigPath() : opt.config_path;
   SlamConfig cfg = loadSlamConfig(config_path);
   if (opt.deterministic >= 0) cfg.system.deterministic = opt.deterministic != 0;
@@ -92,6 +96,16 @@ RunSummary runSlam(const RunOptions& opt) {
   // modes extract more so that tracking keeps enough static ones.
   if (opt.mode != "off" && cfg.dynamic.orb_features > 0) cfg.orb.n_features = cfg.dynamic.orb_features;
   SlamSystem slam(cfg, source->camera());
+  mapio::LoadedMap loaded;
+  double map_load_s = 0, map_load_cpu_s = 0, rss_after_load = 0;
+  if (!opt.map_path.empty()) {
+    const auto tl = SteadyClock::now();
+    const double cpu0 = processCpuSeconds();
+    loaded = slam.loadMap(opt.map_path, opt.localize);
+    map_load_s = secondsSince(tl);
+    map_load_cpu_s = processCpuSeconds() - cpu0;
+    rss_after_load = peakRssMb();
+  }
   std::unique_ptr<DynamicFeatureFilter> filter;
   if (opt.mode != "off") {
     DynamicFilterParams dp = cfg.dynamic;
@@ -181,6 +195,10 @@ RunSummary runSlam(const RunOptions& opt) {
 
   const std::string dir = staged.path();
   const std::string header = "dynslam " DYNSLAM_VERSION " run of " + opt.input;
+  if (opt.save_map) slam.saveMap(dir + "/map.dsm");
+  // Localisation must leave the map as it was read: checked, not assumed.
+  const bool map_unchanged =
+      opt.localize && mapio::crc32Of(slam.encodeMap(), mapio::kMapHeaderBytes) == loaded.payload_crc;
   writeTumTrajectory(dir + "/trajectory.txt", slam.frameTrajectory(), header);
   writeTumTrajectory(dir + "/keyframes.txt", slam.keyFrameTrajectory(), header + " (keyframes)");
   writeMapPoints(dir + "/map_points.txt", slam.map());
@@ -212,6 +230,10 @@ RunSummary runSlam(const RunOptions& opt) {
        << "sensor: " << yamlQuote(opt.sensor) << "\n"
        << "config: " << yamlQuote(std::filesystem::absolute(config_path).string()) << "\n"
        << "mode: " << yamlQuote(opt.mode) << "\n"
+       << "map: "
+       << yamlQuote(opt.map_path.empty() ? "" : std::filesystem::absolute(opt.map_path).string())
+       << "\n"
+       << "localize: " << (opt.localize ? "true" : "false") << "\n"
        << "frames: " << n << "\n";
   });
 
@@ -234,6 +256,19 @@ RunSummary runSlam(const RunOptions& opt) {
       .value("wall_time_s", wall)
       .value("fps", sum.fps)
       .value("peak_rss_mb", peakRssMb());
+  if (!opt.map_path.empty()) {
+    w.beginObject("loaded_map")
+        .value("path", opt.map_path)
+        .value("localize", opt.localize)
+        .value("file_bytes", loaded.file_bytes)
+        .value("keyframes", loaded.keyframes)
+        .value("map_points", loaded.map_points)
+        .value("load_s", map_load_s)
+        .value("load_cpu_s", map_load_cpu_s)
+        .value("peak_rss_mb_after_load", rss_after_load);
+    if (opt.localize) w.value("unchanged", map_unchanged);
+    w.endObject();
+  }
   const SourceNotes notes = source->notes();
   w.beginObject("input_source")
       .value("sensor", notes.sensor)

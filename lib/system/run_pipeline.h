@@ -12,6 +12,7 @@
 //   report.json      counts, per-stage times, fps, peak memory, and what the
 //                    input source did (sensor, depth registration, skipped
 //                    observations)
+//   map.dsm          with save_map: the final map (docs/map_file.md)
 #include <string>
 
 namespace dynslam {
@@ -25,6 +26,9 @@ struct RunOptions {
   std::string mode = "detect+flow";  ///< detect+flow | detect | flow | off
   std::size_t max_frames = 0; ///< 0: all
   int deterministic = -1;     ///< -1: as configured, 0/1: override
+  std::string map_path;       ///< a saved map to start in (empty: a new map)
+  bool localize = false;      ///< with map_path: track only, the map unchanged
+  bool save_map = false;      ///< write OUT/map.dsm
 };
 
 struct RunSummary {

@@ -33,6 +33,7 @@ SlamSystem::SlamSystem(const SlamConfig& config, const PinholeCamera& camera)
   tracker_ = std::make_unique<Tracker>(map_, *mapper_, cfg_.tracker, cfg_.pose_optimizer);
   if (cfg_.loop.enabled) {
     auto voc = std::make_shared<const OrbVocabulary>(OrbVocabulary::load(cfg_.loop.vocabulary));
+    vocabulary_checksum_ = voc->checksum();
     loop_ = std::make_unique<loop::LoopClosing>(map_, *mapper_, std::move(voc), cfg_.loop,
                                                 !cfg_.system.deterministic);
     mapper_->setListener(loop_.get());
@@ -47,6 +48,28 @@ SlamSystem::~SlamSystem() {
     finish();
   } catch (...) {
   }
+}
+
+mapio::LoadedMap SlamSystem::loadMap(const std::string& path, bool localize_only) {
+  // Without place recognition a cold start could only try the most recent
+  // keyframes of the saved session.
+  if (!loop_)
+    throw std::runtime_error(path + ": using a saved map needs loop_closing.enabled: true (" +
+                             cfg_.source + ")");
+  std::lock_guard<std::mutex> lk(map_.mutex());
+  const mapio::LoadedMap info = mapio::loadMap(path, map_, ctx_, vocabulary_checksum_);
+  for (KeyFrame* kf : map_.keyFrames()) loop_->indexLoadedKeyFrame(kf);
+  tracker_->startInMap(localize_only);
+  localize_only_ = localize_only;
+  return info;
+}
+
+std::string SlamSystem::encodeMap() const {
+  return mapio::encodeMap(map_, *ctx_, vocabulary_checksum_);
+}
+
+void SlamSystem::saveMap(const std::string& path) const {
+  mapio::saveMap(path, map_, *ctx_, vocabulary_checksum_);
 }
 
 FrameOutcome SlamSystem::process(const RGBDFrame& frame) {
@@ -127,7 +150,7 @@ void SlamSystem::finish() {
   }
   if (loop_) loop_->stop();
   mapper_->stop();
-  if (cfg_.system.final_global_ba) {
+  if (cfg_.system.final_global_ba && !localize_only_) {
     BAParams ba = cfg_.mapper.ba;
     ba.iterations_first = cfg_.system.final_ba_iterations;
     ba.iterations_second = cfg_.system.final_ba_iterations;

@@ -12,6 +12,7 @@
 #include "core/trajectory.h"
 #include "features/orb_extractor.h"
 #include "map/map.h"
+#include "mapio/map_file.h"
 #include "loop/loop_closing.h"
 #include "mapping/local_mapper.h"
 #include "mapping/map_ba_problem.h"
@@ -35,6 +36,16 @@ class SlamSystem {
 
   /// Optional; not owned. Set before the first frame.
   void setPreprocessor(ObservationPreprocessor* p) { preprocessor_ = p; }
+
+  /// Before the first frame: reads a map saved by saveMap() (lib/mapio) and
+  /// tracks in it from the first frame (relocalisation by bag of words).
+  /// localize_only: the map is only read (no keyframes, no map points, no
+  /// final BA); else mapping goes on in it (a second session). Throws
+  /// InputError naming the file when it cannot be used (mapio::loadMap).
+  mapio::LoadedMap loadMap(const std::string& path, bool localize_only);
+  /// The map as a map file (mapio::encodeMap) / written atomically to path.
+  std::string encodeMap() const;
+  void saveMap(const std::string& path) const;
 
   FrameOutcome process(const RGBDFrame& frame);
   /// Finishes pending mapping work, stops the mapping thread and, if
@@ -71,6 +82,8 @@ class SlamSystem {
   cv::Mat gray_;
   bool finished_ = false;
   GlobalBAResult final_ba_;
+  uint64_t vocabulary_checksum_ = 0;  ///< of the loop closer's vocabulary (0: none)
+  bool localize_only_ = false;
 };
 
 }  // namespace dynslam

@@ -26,6 +26,14 @@ Tracker::Tracker(Map& map, KeyFrameSink& sink, const TrackerParams& params,
 
 Tracker::~Tracker() = default;
 
+void Tracker::startInMap(bool frozen) {
+  frozen_ = frozen;
+  state_ = TrackingState::kLost;
+  // Frame ids go on after the saved session's (keyframes carry them).
+  for (KeyFrame* kf : map_.keyFrames()) next_frame_id_ = std::max(next_frame_id_, kf->frame_id + 1);
+  last_kf_frame_id_ = next_frame_id_;
+}
+
 TrackResult Tracker::estimatePose(std::shared_ptr<const FeatureSet> features, std::size_t index,
                                   double timestamp) {
   last_ = std::move(cur_);
@@ -80,7 +88,7 @@ TrackResult Tracker::finishFrame(bool flags_changed) {
   // with, nothing left to decide.
   if (!res.new_keyframe && res.has_pose) {
     if (flags_changed) dropMatchesOnDynamic();
-    if (needNewKeyFrame()) {
+    if (!frozen_ && needNewKeyFrame()) {
       createKeyFrame();
       res.new_keyframe = true;
     }
@@ -394,7 +402,7 @@ void Tracker::searchLocalPoints() {
   // updateLocalMap() has already dropped the matches to bad points.
   for (MapPoint* mp : cur_.points) {
     if (!mp) continue;
-    mp->visible++;
+    if (!frozen_) mp->visible++;
     mp->last_seen_frame = cur_.id;
     mp->track_in_view = false;
   }
@@ -402,13 +410,13 @@ void Tracker::searchLocalPoints() {
   for (MapPoint* mp : local_points_) {
     if (mp->last_seen_frame == cur_.id || mp->bad) continue;
     if (isInFrustum(mp, 0.5f)) {
-      mp->visible++;
+      if (!frozen_) mp->visible++;
       ++to_match;
     }
   }
   int found = 0;
   if (to_match > 0) found = matcher_.searchByProjection(cur_, local_points_, p_.local_search_radius);
-  if (p_.cull_dynamic_hits > 0) cullPointsOnDynamicKeypoints();
+  if (p_.cull_dynamic_hits > 0 && !frozen_) cullPointsOnDynamicKeypoints();
   if (kDebug) std::fprintf(stderr, "[track] local map: %d in view, %d new matches\n", to_match, found);
 }
 
@@ -444,7 +452,7 @@ bool Tracker::trackLocalMap() {
   inliers_ = 0;
   for (std::size_t i = 0; i < cur_.points.size(); ++i) {
     if (!isMapInlier(i)) continue;
-    cur_.points[i]->found++;
+    if (!frozen_) cur_.points[i]->found++;
     ++inliers_;
   }
   return inliers_ >= p_.min_inliers_local;

@@ -80,6 +80,11 @@ class Tracker {
   std::vector<uint8_t> currentMapInliers() const;
 
   TrackingState state() const { return state_; }
+  /// Tracking in a map read from a file (lib/mapio), before the first frame:
+  /// the first frame relocalises in it (no initialisation). frozen: the map
+  /// is only read (localisation mode): no keyframes, no map points culled,
+  /// no map point statistics changed.
+  void startInMap(bool frozen);
   /// Optional; not owned.
   void setCandidateSource(RelocalisationCandidateSource* s) { candidate_source_ = s; }
 
@@ -162,6 +167,7 @@ class Tracker {
   // Between estimatePose() and finishFrame().
   TrackResult pending_;
   bool pending_open_ = false;
+  bool frozen_ = false;  ///< startInMap(true): the map is never changed
 };
 
 }  // namespace dynslam

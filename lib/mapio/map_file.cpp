@@ -1,0 +1,424 @@
+#include "mapio/map_file.h"
+
+#include <zlib.h>
+
+#include <algorithm>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+#include <map>
+#include <sstream>
+#include <stdexcept>
+#include <unordered_map>
+
+#include "core/atomic_file.h"
+#include "core/errors.h"
+#include "mapio/byte_stream.h"
+
+namespace dynslam::mapio {
+
+namespace {
+
+// Header field offsets (docs/map_file.md).
+constexpr std::size_t kOffVersion = 8, kOffHeaderBytes = 12, kOffPayloadBytes = 16, kOffCrc = 24;
+constexpr std::size_t kDescriptorBytes = 32;
+
+/// Map content the file refers to but does not hold: a file that passed its
+/// checksum yet does not make sense (written by a broken program).
+class CorruptMap : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+void writePose(ByteWriter& w, const mrpt::poses::CPose3D& wc) {
+  const auto H = wc.getHomogeneousMatrixVal<mrpt::math::CMatrixDouble44>();
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 4; ++c) w.f64(H(r, c));
+}
+
+mrpt::poses::CPose3D readPose(ByteReader& r) {
+  mrpt::math::CMatrixDouble44 H;
+  H.setIdentity();
+  for (int i = 0; i < 3; ++i)
+    for (int c = 0; c < 4; ++c) H(i, c) = r.f64();
+  return mrpt::poses::CPose3D(H);
+}
+
+void writeKeyPoints(ByteWriter& w, const std::vector<cv::KeyPoint>& keys) {
+  for (const cv::KeyPoint& k : keys) {
+    w.f32(k.pt.x);
+    w.f32(k.pt.y);
+    w.f32(k.size);
+    w.f32(k.angle);
+    w.f32(k.response);
+    w.i32(k.octave);
+    w.i32(k.class_id);
+  }
+}
+
+std::vector<cv::KeyPoint> readKeyPoints(ByteReader& r, std::size_t n, int levels) {
+  std::vector<cv::KeyPoint> keys(n);
+  for (cv::KeyPoint& k : keys) {
+    k.pt.x = r.f32();
+    k.pt.y = r.f32();
+    k.size = r.f32();
+    k.angle = r.f32();
+    k.response = r.f32();
+    k.octave = r.i32();
+    k.class_id = r.i32();
+    if (k.octave < 0 || k.octave >= levels) throw CorruptMap("keypoint octave out of range");
+  }
+  return keys;
+}
+
+constexpr std::size_t kKeyPointBytes = 7 * 4;
+
+void writeFeatures(ByteWriter& w, const FeatureSet& f) {
+  const std::size_t n = f.size();
+  if (f.keys_un.size() != n || f.depth.size() != n || f.ur.size() != n || f.dynamic.size() != n ||
+      static_cast<std::size_t>(f.descriptors.rows) != n ||
+      (!f.colors.empty() && f.colors.size() != n))
+    throw std::logic_error("encodeMap: a keyframe's feature arrays differ in size");
+  w.u32(static_cast<uint32_t>(n));
+  w.u8(f.colors.empty() ? 0 : 1);
+  writeKeyPoints(w, f.keys);
+  writeKeyPoints(w, f.keys_un);
+  for (std::size_t i = 0; i < n; ++i) w.bytes(f.descriptor(i), kDescriptorBytes);
+  for (float d : f.depth) w.f32(d);
+  for (float u : f.ur) w.f32(u);
+  for (uint8_t d : f.dynamic) w.u8(d);
+  for (const cv::Vec3b& c : f.colors) w.bytes(&c[0], 3);
+}
+
+std::shared_ptr<FeatureSet> readFeatures(ByteReader& r, std::shared_ptr<const FrameContext> ctx) {
+  auto f = std::make_shared<FeatureSet>();
+  f->ctx = ctx;
+  const std::size_t n = r.count(2 * kKeyPointBytes + kDescriptorBytes + 9);
+  const bool colors = r.u8() != 0;
+  f->keys = readKeyPoints(r, n, ctx->levels);
+  f->keys_un = readKeyPoints(r, n, ctx->levels);
+  f->descriptors = cv::Mat(static_cast<int>(n), static_cast<int>(kDescriptorBytes), CV_8UC1);
+  for (std::size_t i = 0; i < n; ++i) r.bytes(f->descriptors.ptr<uint8_t>(static_cast<int>(i)), kDescriptorBytes);
+  f->depth.resize(n);
+  for (float& d : f->depth) d = r.f32();
+  f->ur.resize(n);
+  for (float& u : f->ur) u = r.f32();
+  f->dynamic.resize(n);
+  for (uint8_t& d : f->dynamic) d = r.u8();
+  if (colors) {
+    f->colors.resize(n);
+    for (cv::Vec3b& c : f->colors) r.bytes(&c[0], 3);
+  }
+  f->buildGrids();
+  return f;
+}
+
+std::string cameraText(const PinholeCamera& c, double bf, int levels, double scale) {
+  std::ostringstream s;
+  s << c.width << "x" << c.height << " fx " << c.fx << " fy " << c.fy << " cx " << c.cx << " cy "
+    << c.cy << " dist " << c.dist[0] << "," << c.dist[1] << "," << c.dist[2] << "," << c.dist[3]
+    << "," << c.dist[4] << " bf " << bf << ", " << levels << " levels x " << scale;
+  return s.str();
+}
+
+void writeIdentity(ByteWriter& w, const FrameContext& ctx, uint64_t vocabulary_checksum) {
+  const PinholeCamera& c = ctx.camera;
+  w.i32(c.width);
+  w.i32(c.height);
+  for (double v : {c.fx, c.fy, c.cx, c.cy}) w.f64(v);
+  for (double d : c.dist) w.f64(d);
+  w.f64(ctx.proj.bf);
+  w.i32(ctx.levels);
+  w.f32(ctx.scale_factor);
+  w.u64(vocabulary_checksum);
+}
+
+/// Throws InputError(path) when the map was made for another camera,
+/// pyramid or vocabulary than this run's.
+void checkIdentity(ByteReader& r, const std::string& path, const FrameContext& ctx,
+                   uint64_t vocabulary_checksum) {
+  PinholeCamera c;
+  c.width = r.i32();
+  c.height = r.i32();
+  c.fx = r.f64();
+  c.fy = r.f64();
+  c.cx = r.f64();
+  c.cy = r.f64();
+  for (double& d : c.dist) d = r.f64();
+  const double bf = r.f64();
+  const int levels = r.i32();
+  const float scale = r.f32();
+  const uint64_t voc = r.u64();
+  if (!c.sameGeometry(ctx.camera) || bf != ctx.proj.bf || levels != ctx.levels ||
+      scale != ctx.scale_factor)
+    throw InputError(path, "map made for another camera (" + cameraText(c, bf, levels, scale) +
+                               ") than this run's (" +
+                               cameraText(ctx.camera, ctx.proj.bf, ctx.levels, ctx.scale_factor) +
+                               ")");
+  if (voc != vocabulary_checksum) {
+    std::ostringstream s;
+    s << std::hex << "map made with another vocabulary (checksum " << voc
+      << ") than the configured one (" << vocabulary_checksum << ")";
+    throw InputError(path, s.str());
+  }
+}
+
+template <typename T>
+std::vector<T*> byId(std::vector<T*> v) {
+  std::sort(v.begin(), v.end(), [](const T* a, const T* b) { return a->id < b->id; });
+  return v;
+}
+
+}  // namespace
+
+uint32_t crc32Of(const std::string& bytes, std::size_t offset) {
+  uLong crc = crc32(0L, Z_NULL, 0);
+  const auto* p = reinterpret_cast<const Bytef*>(bytes.data()) + offset;
+  std::size_t n = bytes.size() - offset;
+  while (n > 0) {  // zlib takes 32-bit lengths
+    const uInt chunk = static_cast<uInt>(std::min<std::size_t>(n, 1u << 30));
+    crc = crc32(crc, p, chunk);
+    p += chunk;
+    n -= chunk;
+  }
+  return static_cast<uint32_t>(crc);
+}
+
+std::string encodeMap(const Map& map, const FrameContext& ctx, uint64_t vocabulary_checksum) {
+  const std::vector<KeyFrame*> kfs = byId(map.keyFrames());
+  const std::vector<MapPoint*> points = byId(map.mapPoints());
+  std::unordered_map<const KeyFrame*, bool> saved;
+  for (const KeyFrame* kf : kfs) saved[kf] = true;
+  auto isSaved = [&](const KeyFrame* kf) { return kf && saved.count(kf) > 0; };
+  std::unordered_map<const MapPoint*, bool> saved_points;
+  for (const MapPoint* p : points) saved_points[p] = true;
+
+  ByteWriter w;
+  w.bytes(kMapMagic, sizeof kMapMagic);
+  w.u32(kMapVersion);
+  w.u32(static_cast<uint32_t>(kMapHeaderBytes));
+  w.u64(0);  // payload bytes, patched below
+  w.u32(0);  // CRC-32, patched below
+  w.u32(0);  // reserved
+  writeIdentity(w, ctx, vocabulary_checksum);
+  w.i64(map.nextKeyFrameId());
+  w.i64(map.nextMapPointId());
+
+  w.u32(static_cast<uint32_t>(kfs.size()));
+  for (const KeyFrame* kf : kfs) {
+    w.i64(kf->id);
+    w.i64(kf->frame_id);
+    w.f64(kf->timestamp);
+    w.u64(kf->frame_index);
+    writePose(w, kf->pose.wc());
+    w.u8(kf->keep ? 1 : 0);
+    writeFeatures(w, kf->f());
+  }
+
+  w.u32(static_cast<uint32_t>(points.size()));
+  for (const MapPoint* p : points) {
+    w.i64(p->id);
+    for (int k = 0; k < 3; ++k) w.f64(p->pos[k]);
+    const bool has_desc = !p->descriptor.empty();
+    w.u8(has_desc ? 1 : 0);
+    if (has_desc) w.bytes(p->descriptor.ptr<uint8_t>(), kDescriptorBytes);
+    for (int k = 0; k < 3; ++k) w.f64(p->normal[k]);
+    w.f32(p->min_dist);
+    w.f32(p->max_dist);
+    std::vector<std::pair<const KeyFrame*, int>> obs;
+    for (const auto& [kf, idx] : p->obs)
+      if (isSaved(kf)) obs.emplace_back(kf, idx);
+    // A reference keyframe that is gone is replaced as eraseObservation does.
+    const KeyFrame* ref = isSaved(p->ref_kf) ? p->ref_kf : (obs.empty() ? nullptr : obs.front().first);
+    w.i64(ref ? ref->id : -1);
+    w.i64(p->first_kf_id);
+    w.i32(p->visible);
+    w.i32(p->found);
+    w.i32(p->dynamic_hits);
+    w.u32(static_cast<uint32_t>(obs.size()));
+    for (const auto& [kf, idx] : obs) {
+      w.i64(kf->id);
+      w.u32(static_cast<uint32_t>(idx));
+    }
+  }
+
+  // Per keyframe: its keypoint -> map point links, parent and covisibility edges.
+  for (const KeyFrame* kf : kfs) {
+    std::vector<std::pair<uint32_t, long>> links;
+    for (std::size_t i = 0; i < kf->points.size(); ++i)
+      if (kf->points[i] && saved_points.count(kf->points[i])) links.emplace_back(i, kf->points[i]->id);
+    w.u32(static_cast<uint32_t>(links.size()));
+    for (const auto& [i, id] : links) {
+      w.u32(i);
+      w.i64(id);
+    }
+    w.i64(isSaved(kf->parent) ? kf->parent->id : -1);
+    std::vector<std::pair<long, int>> edges;
+    for (const auto& [other, weight] : kf->connections())
+      if (isSaved(other)) edges.emplace_back(other->id, weight);
+    w.u32(static_cast<uint32_t>(edges.size()));
+    for (const auto& [id, weight] : edges) {
+      w.i64(id);
+      w.i32(weight);
+    }
+  }
+
+  w.patchU64(kOffPayloadBytes, w.size() - kMapHeaderBytes);
+  std::string out = w.release();
+  const uint32_t crc = crc32Of(out, kMapHeaderBytes);
+  for (int i = 0; i < 4; ++i) out[kOffCrc + i] = static_cast<char>((crc >> (8 * i)) & 0xff);
+  return out;
+}
+
+void saveMap(const std::string& path, const Map& map, const FrameContext& ctx,
+             uint64_t vocabulary_checksum) {
+  const std::string bytes = encodeMap(map, ctx, vocabulary_checksum);
+  writeFileAtomically(path, [&](std::ostream& os) {
+    os.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  }, true);
+}
+
+namespace {
+
+std::string readWholeFile(const std::string& path) {
+  if (isDirectory(path)) throw InputError(path, "is a folder, not a map file");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path, "cannot open the map file");
+  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (in.bad()) throw InputError(path, "cannot read the map file");
+  return bytes;
+}
+
+void checkHeader(const std::string& path, const std::string& bytes) {
+  if (bytes.size() < sizeof kMapMagic || std::memcmp(bytes.data(), kMapMagic, sizeof kMapMagic) != 0)
+    throw InputError(path, "not a dynslam map file (no DYNSLMAP header)");
+  if (bytes.size() < kMapHeaderBytes)
+    throw InputError(path, "truncated map file: " + std::to_string(bytes.size()) +
+                               " bytes, shorter than its header");
+  ByteReader at_version(std::string_view(bytes).substr(kOffVersion));
+  const uint32_t version = at_version.u32();
+  if (version != kMapVersion)
+    throw InputError(path, "map file version " + std::to_string(version) + ", this dynslam reads version " +
+                               std::to_string(kMapVersion));
+  const uint32_t header_bytes = at_version.u32();
+  const uint64_t payload = at_version.u64();
+  const uint32_t crc = at_version.u32();
+  if (header_bytes != kMapHeaderBytes) throw InputError(path, "corrupt map file header");
+  if (bytes.size() - kMapHeaderBytes < payload)
+    throw InputError(path, "truncated map file: " + std::to_string(bytes.size()) + " bytes, expected " +
+                               std::to_string(kMapHeaderBytes + payload));
+  if (bytes.size() - kMapHeaderBytes > payload)
+    throw InputError(path, "corrupt map file: " + std::to_string(bytes.size() - kMapHeaderBytes - payload) +
+                               " bytes after the end of the map");
+  if (crc32Of(bytes, kMapHeaderBytes) != crc)
+    throw InputError(path, "checksum mismatch: the map file is corrupt");
+}
+
+void readMapBody(ByteReader& r, Map& map, std::shared_ptr<const FrameContext> ctx) {
+  const long next_kf = r.i64();
+  const long next_point = r.i64();
+  std::map<long, KeyFrame*> kfs;
+  std::vector<KeyFrame*> kf_order;
+  const uint32_t n_kf = r.count(8 * 4 + 12 * 8);
+  for (uint32_t k = 0; k < n_kf; ++k) {
+    const long id = r.i64();
+    const long frame_id = r.i64();
+    const double timestamp = r.f64();
+    const std::size_t frame_index = r.u64();
+    const CameraPose pose = CameraPose::exact(readPose(r));
+    const bool keep = r.u8() != 0;
+    KeyFrame* kf = map.restoreKeyFrame(id, frame_id, timestamp, frame_index, readFeatures(r, ctx), pose);
+    kf->keep = keep;
+    kfs[id] = kf;
+    kf_order.push_back(kf);
+  }
+  auto keyframe = [&](long id) -> KeyFrame* {
+    if (id < 0) return nullptr;
+    auto it = kfs.find(id);
+    if (it == kfs.end()) throw CorruptMap("unknown keyframe id " + std::to_string(id));
+    return it->second;
+  };
+  std::map<long, MapPoint*> points;
+  const uint32_t n_points = r.count(8 + 24 + 1 + 24 + 8 + 16 + 12 + 4);
+  for (uint32_t k = 0; k < n_points; ++k) {
+    const long id = r.i64();
+    Eigen::Vector3d pos;
+    for (int i = 0; i < 3; ++i) pos[i] = r.f64();
+    cv::Mat desc;
+    if (r.u8()) {
+      desc = cv::Mat(1, static_cast<int>(kDescriptorBytes), CV_8UC1);
+      r.bytes(desc.ptr<uint8_t>(), kDescriptorBytes);
+    }
+    Eigen::Vector3d normal;
+    for (int i = 0; i < 3; ++i) normal[i] = r.f64();
+    const float min_dist = r.f32(), max_dist = r.f32();
+    KeyFrame* ref = keyframe(r.i64());
+    MapPoint* p = map.restoreMapPoint(id, pos, ref);
+    p->descriptor = desc;
+    p->normal = normal;
+    p->min_dist = min_dist;
+    p->max_dist = max_dist;
+    p->first_kf_id = r.i64();
+    p->visible = r.i32();
+    p->found = r.i32();
+    p->dynamic_hits = r.i32();
+    const uint32_t n_obs = r.count(12);
+    for (uint32_t o = 0; o < n_obs; ++o) {
+      KeyFrame* kf = keyframe(r.i64());
+      const uint32_t idx = r.u32();
+      if (!kf || idx >= kf->f().size()) throw CorruptMap("observation of a missing keypoint");
+      p->addObservation(kf, static_cast<int>(idx));
+    }
+    points[id] = p;
+  }
+  for (KeyFrame* kf : kf_order) {
+    const uint32_t n_links = r.count(12);
+    for (uint32_t l = 0; l < n_links; ++l) {
+      const uint32_t idx = r.u32();
+      const long id = r.i64();
+      auto it = points.find(id);
+      if (idx >= kf->points.size() || it == points.end())
+        throw CorruptMap("keyframe link to a missing keypoint or map point");
+      kf->addPoint(it->second, static_cast<int>(idx));
+    }
+    KeyFrame* parent = keyframe(r.i64());
+    std::map<KeyFrame*, int, KeyFrameIdLess> edges;
+    const uint32_t n_edges = r.count(12);
+    for (uint32_t e = 0; e < n_edges; ++e) {
+      KeyFrame* other = keyframe(r.i64());
+      edges[other] = r.i32();
+    }
+    kf->restoreGraph(parent, edges);
+  }
+  map.restoreNextIds(next_kf, next_point);
+  if (r.remaining() != 0) throw CorruptMap("bytes left after the map");
+}
+
+}  // namespace
+
+LoadedMap loadMap(const std::string& path, Map& map, std::shared_ptr<const FrameContext> ctx,
+                  uint64_t vocabulary_checksum) {
+  if (map.keyFrameCount() != 0 || map.mapPointCount() != 0)
+    throw std::logic_error("loadMap: the map must be empty");
+  const std::string bytes = readWholeFile(path);
+  checkHeader(path, bytes);
+  ByteReader r(std::string_view(bytes).substr(kMapHeaderBytes));
+  try {
+    checkIdentity(r, path, *ctx, vocabulary_checksum);
+    readMapBody(r, map, ctx);
+  } catch (const TruncatedInput& e) {
+    throw InputError(path, std::string("corrupt map file: ") + e.what());
+  } catch (const CorruptMap& e) {
+    throw InputError(path, std::string("corrupt map file: ") + e.what());
+  } catch (const std::invalid_argument& e) {
+    throw InputError(path, std::string("corrupt map file: ") + e.what());
+  }
+  LoadedMap info;
+  info.file_bytes = bytes.size();
+  info.keyframes = map.keyFrameCount();
+  info.map_points = map.mapPointCount();
+  info.payload_crc = crc32Of(bytes, kMapHeaderBytes);
+  return info;
+}
+
+}  // namespace dynslam::mapio
