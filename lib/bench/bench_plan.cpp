@@ -8,6 +8,7 @@
 #include "core/atomic_file.h"
 #include "core/config_reader.h"
 #include "core/errors.h"
+#include "core/shell_quote.h"
 #include "core/yaml_writer.h"
 #include "rawlog/sequence_source.h"
 
@@ -88,14 +89,6 @@ BenchPlan makeBenchPlan(const BenchOptions& o) {
   }
   return plan;
 }
-
-namespace {
-std::string shellQuote(const std::string& s) {
-  std::string o = "'";
-  for (char c : s) o += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return o + "'";
-}
-}  // namespace
 
 std::string benchJobScript(const BenchPlan& plan) {
   std::string script;

@@ -60,7 +60,7 @@ BenchPlan makeBenchPlan(const BenchOptions& options);
 
 /// One line per run: `mkdir -p PARENT && BINARY run ... > LOG 2>&1`, every
 /// path absolute and single-quoted, so any shell on any machine seeing the
-/// same file system can run the lines in any order (`parallel < FILE`).
+/// same file system can run the lines in any order (`parallel -a FILE`).
 std::string benchJobScript(const BenchPlan& plan);
 
 /// The plan file in the output folder, read by `--collect`.

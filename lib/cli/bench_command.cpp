@@ -71,7 +71,7 @@ int benchMain(int argc, char** argv) {
       "", "emit-jobs",
       "run nothing: write one shell command per run to FILE and the plan to "
       "OUT_DIR/bench_plan.yaml; run the lines anywhere that sees the same paths (e.g. "
-      "`parallel -j 2 < FILE`), then `dynslam bench --collect OUT_DIR`",
+      "`parallel -j 2 -a FILE`), then `dynslam bench --collect OUT_DIR`",
       false, "", "FILE", cmd);
   TCLAP::ValueArg<std::string> collect_arg(
       "", "collect",
