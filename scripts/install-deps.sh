@@ -15,6 +15,7 @@ PACKAGES=(
   libosmesa6-dev                   # off-screen rendering without X or GPU
   libceres-dev                     # bundle adjustment
   libgtest-dev                     # unit tests
+  parallel                         # GNU parallel: runs `dynslam bench --emit-jobs` files (README, bench test)
   python3 python3-opencv python3-numpy  # only for ../shared/tools/make_dynamic_sequence.py (test data)
 )
 

@@ -1,40 +1,21 @@
 #pragma once
-// `dynslam bench`: every (sequence, mode, run) is one `dynslam run` child
-// process writing OUT/<sequence>/<mode>/run<i>/, evaluated afterwards with the
-// very functions `dynslam eval --seq` uses (lib/eval), so a number in the
-// benchmark report is the number `dynslam eval` prints for that trajectory
-// (with --max-frames, coverage is over the frames the run was given).
-#include <cstddef>
+// `dynslam bench`: every (sequence, mode, run) of the plan (bench_plan.h) is
+// one `dynslam run` child process writing OUT/<sequence>/<mode>/run<i>/,
+// evaluated afterwards from its folder with the very functions `dynslam eval
+// --seq` uses (lib/eval), so a number in the benchmark report is the number
+// `dynslam eval` prints for that trajectory (with --max-frames, coverage is
+// over the frames the run was given). Everything in a record is read from the
+// run folder, so runs made elsewhere (--emit-jobs) give the same report.
 #include <functional>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "bench/bench_plan.h"
 #include "bench/run_outputs.h"
 #include "eval/trajectory_eval.h"
 
 namespace dynslam {
-
-/// The dynamic-feature modes of `dynslam run --mode`, in report order.
-const std::vector<std::string>& benchModes();
-
-struct BenchOptions {
-  std::vector<std::string> sequences;  ///< TUM folders or .rawlog files
-  std::vector<std::string> modes = benchModes();
-  int runs = 3;
-  std::size_t max_frames = 0;  ///< 0: whole sequences
-  std::string config;          ///< passed to `dynslam run --config` when set
-  std::string out_dir;
-  std::string dynslam_binary;  ///< the `dynslam` executable to run
-};
-
-/// Throws std::invalid_argument (bad modes, runs < 1, no sequences, no
-/// output folder) or InputError (a sequence or the config does not exist).
-void validateBenchOptions(const BenchOptions& options);
-
-/// Folder-safe, unique names for the sequences (basename, or stem for a
-/// rawlog; "-2", "-3" appended to repeated names).
-std::vector<std::string> sequenceNames(const std::vector<std::string>& sequences);
 
 struct RunRecord {
   std::string sequence;  ///< name (see sequenceNames)
@@ -43,8 +24,8 @@ struct RunRecord {
   std::string dir;       ///< the run folder
   bool ok = false;       ///< ran, and evaluated when there is groundtruth
   std::string error;     ///< why not ok
-  double wall_s = 0;     ///< of the child process
-  double peak_rss_mb = 0;  ///< of the child process (wait4)
+  double wall_s = 0;       ///< report.json "wall_time_s" (the frame loop)
+  double peak_rss_mb = 0;  ///< report.json "peak_rss_mb" (the run process)
   double fps = 0;          ///< report.json "fps" (frames / tracking-loop time)
   /// report.json mask_scores (NaN when the sequence has no true masks):
   /// walker recall, static false rejections (all, and outside person boxes
@@ -56,11 +37,6 @@ struct RunRecord {
   std::optional<Evaluation> evaluation;  ///< when the sequence has groundtruth
 };
 
-struct SequenceInfo {
-  std::string name, path;
-  std::string groundtruth;  ///< empty when the sequence has none
-};
-
 struct BenchResults {
   BenchOptions options;
   std::vector<SequenceInfo> sequences;
@@ -68,18 +44,28 @@ struct BenchResults {
   std::size_t failures() const;
 };
 
+/// The record of a finished run, read from its folder (report.json,
+/// frame_times.txt, and trajectory.txt evaluated against the groundtruth).
+/// Throws InputError naming the missing folder or file.
+RunRecord readRunRecord(const BenchPlan& plan, const PlannedRun& run);
+
+/// `--collect`: the records of every planned run, read from their folders.
+/// Throws InputError for the first run whose folder is missing or partial.
+BenchResults collectBenchResults(const BenchPlan& plan);
+
 class BenchRunner {
  public:
-  /// Validates the options (see validateBenchOptions).
+  /// Validates the options and lays out the runs (makeBenchPlan).
   explicit BenchRunner(BenchOptions options);
-  /// Runs everything; `progress` gets one line per event (may be empty).
-  /// Run failures are recorded, not thrown.
+  const BenchPlan& plan() const { return plan_; }
+  /// Runs everything, options.jobs runs at a time; `progress` gets one line
+  /// per event (may be empty; called from one thread at a time). Run failures
+  /// are recorded, not thrown; the records keep the plan's order.
   BenchResults runAll(const std::function<void(const std::string&)>& progress = {}) const;
-  /// One run of one sequence in one mode, into its run folder.
-  RunRecord runOne(const SequenceInfo& sequence, const std::string& mode, int run) const;
 
  private:
-  BenchOptions options_;
+  RunRecord runOne(const PlannedRun& run) const;
+  BenchPlan plan_;
 };
 
 }  // namespace dynslam

@@ -2,7 +2,6 @@
 
 #include <fcntl.h>
 #include <spawn.h>
-#include <sys/resource.h>
 #include <sys/wait.h>
 
 #include <cerrno>
@@ -10,8 +9,6 @@
 #include <deque>
 #include <fstream>
 #include <stdexcept>
-
-#include "core/timing.h"
 
 extern char** environ;
 
@@ -35,7 +32,6 @@ ChildResult runChildProcess(const std::vector<std::string>& argv, const std::str
   posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
   posix_spawn_file_actions_addclose(&actions, STDIN_FILENO);
 
-  const auto t0 = SteadyClock::now();
   pid_t pid = 0;
   const int err = posix_spawn(&pid, args[0], &actions, nullptr, args.data(), environ);
   posix_spawn_file_actions_destroy(&actions);
@@ -43,16 +39,13 @@ ChildResult runChildProcess(const std::vector<std::string>& argv, const std::str
     throw std::runtime_error("cannot start " + argv[0] + ": " + std::strerror(err));
 
   int status = 0;
-  struct rusage ru {};
   pid_t waited;
   do {
-    waited = wait4(pid, &status, 0, &ru);
+    waited = waitpid(pid, &status, 0);
   } while (waited < 0 && errno == EINTR);
-  if (waited < 0) throw std::runtime_error("wait4 on " + argv[0] + ": " + std::strerror(errno));
+  if (waited < 0) throw std::runtime_error("waitpid on " + argv[0] + ": " + std::strerror(errno));
 
   ChildResult r;
-  r.wall_s = secondsSince(t0);
-  r.peak_rss_mb = ru.ru_maxrss / 1024.0;  // KiB on Linux
   if (WIFEXITED(status)) {
     r.exit_code = WEXITSTATUS(status);
   } else if (WIFSIGNALED(status)) {

@@ -1,7 +1,8 @@
 #pragma once
 // Runs one benchmark run as a separate process. A fresh process per run gives
-// every run the same cold start, and wait4() gives its own peak memory
-// (ru_maxrss), which getrusage() inside the benchmark process could not.
+// every run the same cold start and its own peak memory (the run reports its
+// times and memory itself, in report.json, so that runs made by --emit-jobs
+// elsewhere report the same way).
 #include <string>
 #include <vector>
 
@@ -10,8 +11,6 @@ namespace dynslam {
 struct ChildResult {
   int exit_code = -1;    ///< -1 when killed by a signal
   int signal = 0;        ///< the signal that ended it, 0 if it exited
-  double peak_rss_mb = 0;  ///< the child's ru_maxrss (MiB)
-  double wall_s = 0;
   bool ok() const { return signal == 0 && exit_code == 0; }
   /// "exit code 1" / "killed by signal 9 (Killed)".
   std::string describe() const;

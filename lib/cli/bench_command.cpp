@@ -1,11 +1,13 @@
 // `dynslam bench SEQ... -o OUT_DIR [--modes LIST] [--runs N] [--max-frames N]
-// [--config FILE] [--plots]`: argument layer over lib/bench. Each run is this
-// same executable (/proc/self/exe) started as `dynslam run`, so the numbers
-// are those of the command users run.
+// [--config FILE] [--jobs N | --emit-jobs FILE] [--plots]` and `dynslam bench
+// --collect OUT_DIR [--plots]`: argument layer over lib/bench. Each run is
+// this same executable (/proc/self/exe) started as `dynslam run`, so the
+// numbers are those of the command users run.
 #include <mrpt/3rdparty/tclap/CmdLine.h>
 
 #include <cstdio>
 #include <filesystem>
+#include <memory>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -28,7 +30,10 @@ constexpr const char* kDescription =
     "per sequence and mode the median and min-max over runs of ATE RMSE and SD, RPE (1 s) "
     "translation and rotation RMSE, coverage, per-frame time (mean, median, p95), fps and peak "
     "memory, plus the improvement over mode off. Sequences without groundtruth get timing only. "
-    "Exit code 1 if any run failed (the reports list the failures).";
+    "Exit code 1 if any run failed (the reports list the failures). --jobs N runs N at a time; "
+    "--emit-jobs FILE only writes one shell command per run to FILE (for GNU parallel or a "
+    "Slurm array) and the plan to OUT_DIR/bench_plan.yaml, and --collect OUT_DIR later builds "
+    "the same reports from the finished run folders.";
 
 std::vector<std::string> splitList(const std::string& s) {
   std::vector<std::string> out;
@@ -43,8 +48,8 @@ std::vector<std::string> splitList(const std::string& s) {
 int benchMain(int argc, char** argv) {
   TCLAP::CmdLine cmd(kDescription, ' ', DYNSLAM_VERSION);
   TCLAP::UnlabeledMultiArg<std::string> seq_arg(
-      "sequences", "TUM sequence folders or .rawlog files", true, "SEQ", cmd);
-  TCLAP::ValueArg<std::string> out_arg("o", "out", "output folder (created if missing)", true,
+      "sequences", "TUM sequence folders or .rawlog files (not with --collect)", false, "SEQ", cmd);
+  TCLAP::ValueArg<std::string> out_arg("o", "out", "output folder (created if missing)", false,
                                        "", "OUT_DIR", cmd);
   TCLAP::ValueArg<std::string> modes_arg(
       "", "modes", "comma-separated modes out of off,detect,flow,detect+flow (default: detect+flow, "
@@ -57,6 +62,22 @@ int benchMain(int argc, char** argv) {
   TCLAP::ValueArg<std::string> config_arg(
       "", "config", "SLAM parameters passed to every run (default: configs/dynslam.yaml)", false,
       "", "FILE", cmd);
+  TCLAP::ValueArg<int> jobs_arg(
+      "", "jobs",
+      "runs at a time on this machine (default 1; more than the cores, or than memory allows, "
+      "slows every run and so the times in the report)",
+      false, 1, "N", cmd);
+  TCLAP::ValueArg<std::string> emit_arg(
+      "", "emit-jobs",
+      "run nothing: write one shell command per run to FILE and the plan to "
+      "OUT_DIR/bench_plan.yaml; run the lines anywhere that sees the same paths (e.g. "
+      "`parallel -j 2 -a FILE`), then `dynslam bench --collect OUT_DIR`",
+      false, "", "FILE", cmd);
+  TCLAP::ValueArg<std::string> collect_arg(
+      "", "collect",
+      "run nothing: build the reports from the finished run folders of the benchmark planned in "
+      "OUT_DIR (its bench_plan.yaml); a missing or partial run folder is an error",
+      false, "", "OUT_DIR", cmd);
   TCLAP::SwitchArg plots_arg(
       "", "plots",
       "also draw, per sequence and mode, the median run's trajectory (top view coloured by ATE "
@@ -65,33 +86,60 @@ int benchMain(int argc, char** argv) {
   int exit_code = kOk;
   if (!parseArguments(cmd, argc, argv, exit_code)) return exit_code;
 
-  if (max_frames_arg.isSet() && max_frames_arg.getValue() < 1)
-    throw UsageError("--max-frames must be at least 1, got " +
-                     std::to_string(max_frames_arg.getValue()));
-
-  BenchOptions o;
-  o.sequences = seq_arg.getValue();
-  o.modes = splitList(modes_arg.getValue());
-  o.runs = runs_arg.getValue();
-  o.max_frames = static_cast<std::size_t>(max_frames_arg.getValue());
-  o.config = config_arg.getValue();
-  o.out_dir = out_arg.getValue();
-  o.dynslam_binary = std::filesystem::read_symlink("/proc/self/exe").string();
-  std::unique_ptr<BenchRunner> runner;
-  try {
-    runner = std::make_unique<BenchRunner>(o);
-  } catch (const std::invalid_argument& e) {
-    std::fprintf(stderr, "%s: error: %s\nrun '%s --help' for usage\n", argv[0], e.what(), argv[0]);
-    return kUsage;
-  }
-  makeDirectories(o.out_dir);
+  const std::string self = std::filesystem::read_symlink("/proc/self/exe").string();
   auto progress = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };
-  BenchReport report(runner->runAll(progress));
-  if (plots_arg.getValue()) writeBenchPlots(report, o.out_dir, progress);
-  const std::string json = o.out_dir + "/report.json", md = o.out_dir + "/report.md";
-  report.write(json, md);
-  const std::size_t failed = report.results().failures();
-  std::printf("%zu runs, %zu failed\nreports: %s\n         %s\n", report.results().runs.size(),
+  std::string out_dir;
+  std::unique_ptr<BenchReport> report;
+  if (collect_arg.isSet()) {
+    for (const TCLAP::Arg* a : std::vector<const TCLAP::Arg*>{
+             &seq_arg, &out_arg, &modes_arg, &runs_arg, &max_frames_arg, &config_arg, &jobs_arg,
+             &emit_arg})
+      if (a->isSet())
+        throw UsageError("--collect takes the plan of its folder: no " +
+                         (a == &seq_arg ? std::string("sequences") : "--" + a->getName()));
+    out_dir = collect_arg.getValue();
+    report = std::make_unique<BenchReport>(collectBenchResults(readBenchPlan(out_dir, self)));
+  } else {
+    if (!seq_arg.isSet()) throw UsageError("no sequences given");
+    if (!out_arg.isSet()) throw UsageError("no output folder given (-o OUT_DIR)");
+    if (max_frames_arg.isSet() && max_frames_arg.getValue() < 1)
+      throw UsageError("--max-frames must be at least 1, got " +
+                       std::to_string(max_frames_arg.getValue()));
+    if (emit_arg.isSet() && (jobs_arg.isSet() || plots_arg.isSet()))
+      throw UsageError("--emit-jobs runs nothing: no --jobs or --plots (give them to --collect)");
+    if (emit_arg.isSet() && emit_arg.getValue().empty()) throw UsageError("--emit-jobs needs a file");
+    BenchOptions o;
+    o.sequences = seq_arg.getValue();
+    o.modes = splitList(modes_arg.getValue());
+    o.runs = runs_arg.getValue();
+    o.max_frames = static_cast<std::size_t>(max_frames_arg.getValue());
+    o.config = config_arg.getValue();
+    o.out_dir = out_arg.getValue();
+    o.dynslam_binary = self;
+    o.jobs = jobs_arg.getValue();
+    std::unique_ptr<BenchRunner> runner;
+    try {
+      runner = std::make_unique<BenchRunner>(o);
+    } catch (const std::invalid_argument& e) {
+      throw UsageError(e.what());
+    }
+    out_dir = o.out_dir;
+    writeBenchPlan(runner->plan());
+    if (emit_arg.isSet()) {
+      const std::string script = benchJobScript(runner->plan());
+      writeFileAtomically(emit_arg.getValue(), [&](std::ostream& os) { os << script; });
+      std::printf("%zu runs: %s\nplan: %s/%s\nthen: %s bench --collect %s\n",
+                  runner->plan().runs.size(), emit_arg.getValue().c_str(), out_dir.c_str(),
+                  kBenchPlanFile, argv[0], out_dir.c_str());
+      return kOk;
+    }
+    report = std::make_unique<BenchReport>(runner->runAll(progress));
+  }
+  if (plots_arg.getValue()) writeBenchPlots(*report, out_dir, progress);
+  const std::string json = out_dir + "/report.json", md = out_dir + "/report.md";
+  report->write(json, md);
+  const std::size_t failed = report->results().failures();
+  std::printf("%zu runs, %zu failed\nreports: %s\n         %s\n", report->results().runs.size(),
               failed, md.c_str(), json.c_str());
   return failed ? kFailure : kOk;
 }

@@ -25,6 +25,7 @@ const std::vector<Subcommand>& subcommands() {
       {"render", "render an off-screen snapshot (PNG) of a map", renderMain},
       {"vocab", "train an ORB bag-of-words vocabulary, or describe one", vocabMain},
       {"bench", "benchmark suite: sequences x modes x runs, Markdown/JSON report, plots", benchMain},
+      {"config", "print the effective config (every key, defaults filled in) as YAML", configMain},
       {"synth", "render a synthetic RGB-D sequence with known poses (TUM folder)", synthMain},
   };
   return cmds;

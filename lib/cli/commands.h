@@ -41,5 +41,6 @@ int renderMain(int argc, char** argv);
 int vocabMain(int argc, char** argv);
 int benchMain(int argc, char** argv);
 int synthMain(int argc, char** argv);
+int configMain(int argc, char** argv);
 
 }  // namespace dynslam::cli

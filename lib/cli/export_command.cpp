@@ -104,8 +104,8 @@ int exportMain(int argc, char** argv) {
       "dynslam config YAML; its map_export: section sets the dense map parameters (" +
           denseMapOptionKeys() +
           "); other sections are ignored. "
-          "Default: the config the run used (run_info.yaml's config:) if it still exists, else "
-      "the built-in defaults",
+          "Default: the run's effective config (RUN_DIR/config_used.yaml), else the built-in "
+          "defaults",
       false, "", "YAML", cmd);
   TCLAP::ValueArg<std::string> camera_arg(
       "", "camera", "camera YAML overriding run_info.yaml's camera_config", false, "",
@@ -206,8 +206,7 @@ int exportMain(int argc, char** argv) {
   DenseMapOptions options;
   OccupancyMapOptions occupancy_options;
   std::string config = config_arg.getValue();
-  if (!config_arg.isSet() && !run.config.empty() && fileExists(run.config) &&
-      !isDirectory(run.config)) {
+  if (!config_arg.isSet() && !run.config.empty()) {
     std::fprintf(stderr, "map_export parameters from the run's config %s\n", run.config.c_str());
     config = run.config;
   }

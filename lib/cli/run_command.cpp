@@ -14,7 +14,7 @@ int runMain(int argc, char** argv) {
   TCLAP::CmdLine cmd(
       "Runs RGB-D SLAM on a TUM RGB-D folder or an MRPT rawlog and writes OUT_DIR/"
       "trajectory.txt (every tracked frame, TUM format, camera-to-world, first frame at "
-      "identity), keyframes.txt, map_points.txt, run_info.yaml and report.json. Frames where "
+      "identity), keyframes.txt, map_points.txt, run_info.yaml, config_used.yaml and report.json. Frames where "
       "tracking is lost get no pose. A rawlog's range image taken by a separate depth camera "
       "(other intrinsics or a relativePoseIntensityWRTDepth beyond the change of axes) is "
       "registered to the RGB camera (report.json: input_source). The default configs and the vocabulary are read from "
@@ -26,7 +26,10 @@ int runMain(int argc, char** argv) {
   TCLAP::ValueArg<std::string> out("o", "out", "output folder (created if missing)", true, "",
                                    "OUT_DIR", cmd);
   TCLAP::ValueArg<std::string> config("", "config",
-                                      "SLAM parameters (default: configs/dynslam.yaml)", false,
+                                      "SLAM parameters (default: configs/dynslam.yaml; every key: `dynslam config "
+                                      "--help`); the run writes the effective ones to "
+                                      "OUT_DIR/config_used.yaml, which repeats the run when "
+                                      "given back here", false,
                                       "", "FILE", cmd);
   TCLAP::ValueArg<std::string> camera(
       "", "camera",

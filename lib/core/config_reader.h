@@ -31,6 +31,7 @@ class ConfigSection {
 
   template <typename T>
   ConfigSection& read(const std::string& key, T& value) {
+    if constexpr (std::is_same_v<T, std::vector<std::string>>) return readList(key, value);
     known_.insert(key);
     if (!has(key)) return *this;
     const std::string where = section_.empty() ? key : section_ + "." + key;

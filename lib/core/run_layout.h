@@ -9,6 +9,10 @@ namespace dynslam {
 /// Folder of a run holding one PNG of dynamic pixels per keyframe.
 inline constexpr const char* kDynamicMasksDir = "dynamic_masks";
 
+/// The run's whole effective config, written by `dynslam run`, read by
+/// `dynslam export` (and given back with --config to repeat the run).
+inline constexpr const char* kConfigUsedFile = "config_used.yaml";
+
 /// RUN_DIR/dynamic_masks/<timestamp with 6 decimals>.png
 std::string dynamicMaskPath(const std::string& run_dir, double timestamp);
 

@@ -59,7 +59,8 @@ RunDirectory readRunDirectory(const std::string& dir) {
   if (run.input.empty()) throw InputError(run.runInfoPath(), "missing key 'input'");
   run.camera_config = path("camera_config");
   run.sensor = text("sensor");
-  run.config = path("config");
+  // What the run used, not the file it was read from (which may have changed since).
+  if (const std::string used = dir + "/" + kConfigUsedFile; fileExists(used)) run.config = used;
   run.keyframes = readTumTrajectory(run.keyframesPath());
   if (run.keyframes.empty()) throw InputError(run.keyframesPath(), "no keyframes");
   return run;

@@ -3,8 +3,9 @@
 //   keyframes.txt          final keyframe poses (TUM format; timestamps are the
 //                          input frames' RGB timestamps)
 //   run_info.yaml          `input:` sequence path, `camera_config:` (may be empty),
-//                          `sensor:` the rawlog's sensor label (optional),
-//                          `config:` the SLAM config the run used (optional)
+//                          `sensor:` the rawlog's sensor label (optional)
+//   config_used.yaml       optional: the run's whole effective config (its
+//                          map_export: and occupancy_map: sections)
 //   dynamic_masks/<t>.png  optional, CV_8U, 255 = dynamic, t with 6 decimals
 //   map_points.txt         optional sparse map ("x y z r g b")
 // and, from the input sequence, masks/<rgb stem>.png when it has them
@@ -30,7 +31,7 @@ struct RunDirectory {
   std::string input;          ///< sequence path (TUM folder or rawlog)
   std::string camera_config;  ///< camera YAML; empty = chosen by openSequence
   std::string sensor;         ///< rawlog 3D sensor label (`sensor:`); may be empty
-  std::string config;         ///< the run's SLAM config YAML (`config:`); may be empty
+  std::string config;         ///< the run's config_used.yaml; empty when it has none
   Trajectory keyframes;
 
   std::string keyframesPath() const { return dir + "/keyframes.txt"; }

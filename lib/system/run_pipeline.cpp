@@ -16,6 +16,7 @@
 #include "core/json_writer.h"
 #include "core/stats.h"
 #include "core/staged_folder.h"
+#include "core/yaml_writer.h"
 #include "core/progress.h"
 #include "core/run_layout.h"
 #include "core/timing.h"
@@ -55,15 +56,6 @@ void writeMapPoints(const std::string& path, const Map& map) {
   });
 }
 
-std::string yamlQuote(const std::string& s) {
-  std::string o = "\"";
-  for (char c : s) {
-    if (c == '"' || c == '\\') o += '\\';
-    o += c;
-  }
-  return o + "\"";
-}
-
 /// The latest sample of a stage if it was recorded for frame `i` (NaN if not).
 double latestStageMs(const StageTimes& times, const std::string& stage, std::size_t i) {
   const auto& names = times.stages();
@@ -84,6 +76,7 @@ RunSummary runSlam(const RunOptions& opt) {
   const std::string config_path = opt.config_path.empty() ? defaultSlamConfigPath() : opt.config_path;
   SlamConfig cfg = loadSlamConfig(config_path);
   if (opt.deterministic >= 0) cfg.system.deterministic = opt.deterministic != 0;
+  const std::string config_used = slamConfigYaml(cfg);  // before the mode's derived changes
 
   std::unique_ptr<FrameSource> source = openSequence(opt.input, opt.camera_config, opt.sensor);
   std::size_t n = source->size();
@@ -221,6 +214,7 @@ RunSummary runSlam(const RunOptions& opt) {
       }, true);
     }
   }
+  writeFileAtomically(dir + "/" + kConfigUsedFile, [&](std::ostream& os) { os << config_used; });
   writeFileAtomically(dir + "/run_info.yaml", [&](std::ostream& os) {
     os << "# Inputs of this run (read by `dynslam export`).\n"
        << "input: " << yamlQuote(std::filesystem::absolute(opt.input).string()) << "\n"

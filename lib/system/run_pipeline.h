@@ -8,6 +8,9 @@
 //   keyframes.txt    final keyframe poses, TUM format
 //   map_points.txt   "x y z r g b" per map point (world frame)
 //   run_info.yaml    input path, camera config, sensor, config, mode
+//   config_used.yaml the whole effective config (every key; --deterministic
+//                    applied): `--config` with it repeats the run, and
+//                    `dynslam export` reads its map_export/occupancy_map
 //   frame_times.txt  per frame: timestamp, track and frame_total ms
 //   report.json      counts, per-stage times, fps, peak memory, and what the
 //                    input source did (sensor, depth registration, skipped

@@ -1,8 +1,12 @@
 #pragma once
 // All parameters of a run, grouped by pipeline stage, with their defaults in
 // code and documented in configs/dynslam.yaml. Parsing lives here so that the
-// stage libraries stay free of YAML.
+// stage libraries stay free of YAML; which key sets which field is listed
+// once, in slam_config_options.h.
 #include <string>
+
+#include "mapexport/dense_map_builder.h"
+#include "occupancy/occupancy_config.h"
 
 #include "dynamic/dynamic_feature_filter.h"
 #include "features/orb_extractor.h"
@@ -47,13 +51,26 @@ struct SlamConfig {
   DynamicFilterParams dynamic;
   /// Place recognition, BoW relocalisation and loop closing.
   loop::LoopClosingParams loop;
+  /// Read by `dynslam export` (the dense map and the occupancy maps); part
+  /// of the config so that a run's config_used.yaml is the whole file.
+  DenseMapOptions map_export;
+  OccupancyMapOptions occupancy_map;
   std::string source;  ///< file it was read from ("" = built-in defaults)
 };
 
-/// Reads a config YAML (sections system, orb, tracker, pose_optimizer,
-/// local_mapper, dynamic, loop_closing); missing keys keep their defaults, unknown keys are an error
-/// naming the file.
+/// Reads a config YAML (the sections of forEachSlamConfigSection); missing
+/// keys keep their defaults, unknown keys and out-of-range values are an
+/// InputError naming the file. Relative model and vocabulary paths are
+/// resolved against the file's folder, an empty vocabulary to the shipped one.
 SlamConfig loadSlamConfig(const std::string& path);
+
+/// The whole config as YAML, every key of every section with its value
+/// (paths as resolved): loadSlamConfig of this text gives `config` back.
+/// What `dynslam run` writes as config_used.yaml.
+std::string slamConfigYaml(const SlamConfig& config);
+
+/// "section: key, key, ...", one line per section (for help texts).
+std::string slamConfigKeys();
 
 /// configs/dynslam.yaml
 std::string defaultSlamConfigPath();

@@ -758,15 +758,17 @@ TEST(ExportCli, NoCarvingFlagKeepsTheWalkers) {
   EXPECT_NE(off.output.find("0 carved"), std::string::npos) << off.output;
   EXPECT_EQ(readPly(dir / "off.ply").size(), std::size_t(3 * kW * kH));
   EXPECT_EQ(readPly(dir / "on.ply").size(), std::size_t(3 * kW * kH - 720));
-  // Without --config the run's own config (run_info.yaml's config:) sets the
-  // parameters; an explicit --config wins over it.
-  writeText(dir / "runcfg.yaml", "map_export:\n  carve_free_space: false\n");
+  // Without --config the run's effective config (its config_used.yaml) sets
+  // the parameters, not the file run_info.yaml names (which may have changed
+  // since); an explicit --config wins over it.
+  writeText(dir / "run/config_used.yaml", "map_export:\n  carve_free_space: false\n");
+  writeText(dir / "runcfg.yaml", "map_export:\n  carve_free_space: true\n");
   writeText(dir / "run/run_info.yaml", "input: " + seq + "\ncamera_config: " + (dir / "cam.yaml") +
                                            "\nconfig: " + (dir / "runcfg.yaml") + "\n");
   const auto from_run = test::runDynslam({"export", dir / "run", "-o", dir / "run.ply", "--voxel",
                                           "0", "--no-outlier-removal", "--mask-margin", "0"});
   ASSERT_EQ(from_run.exit_code, 0) << from_run.output;
-  EXPECT_NE(from_run.output.find("runcfg.yaml"), std::string::npos) << from_run.output;
+  EXPECT_NE(from_run.output.find(dir / "run/config_used.yaml"), std::string::npos) << from_run.output;
   EXPECT_EQ(readPly(dir / "run.ply").size(), std::size_t(3 * kW * kH));
   // Exports with `--config NAME.yaml` holding `yaml`; returns the map's size.
   auto pointsWithConfig = [&](const std::string& name, const std::string& yaml) {
@@ -779,9 +781,10 @@ TEST(ExportCli, NoCarvingFlagKeepsTheWalkers) {
   };
   EXPECT_EQ(pointsWithConfig("carve", "map_export:\n  carve_free_space: true\n"),
             std::size_t(3 * kW * kH - 720));
-  // A run config that no longer exists: the built-in defaults (carving on).
-  writeText(dir / "run/run_info.yaml", "input: " + seq + "\ncamera_config: " + (dir / "cam.yaml") +
-                                           "\nconfig: " + (dir / "gone.yaml") + "\n");
+  // A run folder without config_used.yaml: the built-in defaults (carving
+  // on), whatever run_info.yaml's config: names.
+  std::filesystem::remove(dir / "run/config_used.yaml");
+  writeText(dir / "runcfg.yaml", "map_export:\n  carve_free_space: false\n");
   const auto gone = test::runDynslam({"export", dir / "run", "-o", dir / "gone.ply", "--voxel",
                                       "0", "--no-outlier-removal", "--mask-margin", "0"});
   ASSERT_EQ(gone.exit_code, 0) << gone.output;

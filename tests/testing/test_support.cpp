@@ -47,15 +47,6 @@ TempDir::~TempDir() {
   fs::remove_all(path_, ec);
 }
 
-std::string shellQuote(const std::string& s) {
-  std::string o = "'";
-  for (char c : s) {
-    if (c == '\'') o += "'\\''";
-    else o += c;
-  }
-  return o + "'";
-}
-
 CommandResult runDynslam(const std::vector<std::string>& args) {
   std::string cmd = shellQuote(dynslamBinary());
   for (const auto& a : args) cmd += " " + shellQuote(a);

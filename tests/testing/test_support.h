@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "core/shell_quote.h"
+
 namespace dynslam::test {
 
 /// ../shared next to the repository, or $DYNSLAM_SHARED_DIR. Tests that need
@@ -22,7 +24,7 @@ std::string dynslamBinary();
 /// The cmake that configured the build (for `cmake --install`).
 std::string cmakeCommand();
 /// 'text' quoted for /bin/sh.
-std::string shellQuote(const std::string& text);
+using dynslam::shellQuote;
 
 /// A fresh empty directory under the system temp dir, removed on destruction.
 class TempDir {

@@ -1,0 +1,144 @@
+#include "bench/bench_plan.h"
+
+#include <algorithm>
+#include <filesystem>
+#include <map>
+#include <stdexcept>
+
+#include "core/atomic_file.h"
+#include "core/config_reader.h"
+#include "core/errors.h"
+#include "core/shell_quote.h"
+#include "core/yaml_writer.h"
+#include "rawlog/sequence_source.h"
+
+namespace dynslam {
+
+namespace fs = std::filesystem;
+
+const std::vector<std::string>& benchModes() {
+  static const std::vector<std::string> modes = {"off", "detect", "flow", "detect+flow"};
+  return modes;
+}
+
+void validateBenchOptions(const BenchOptions& o) {
+  if (o.sequences.empty()) throw std::invalid_argument("no sequences given");
+  if (o.modes.empty()) throw std::invalid_argument("no modes given");
+  for (const auto& m : o.modes)
+    if (std::find(benchModes().begin(), benchModes().end(), m) == benchModes().end())
+      throw std::invalid_argument("unknown mode '" + m +
+                                  "': expected off, detect, flow or detect+flow");
+  for (std::size_t i = 0; i < o.modes.size(); ++i)
+    if (std::find(o.modes.begin(), o.modes.begin() + long(i), o.modes[i]) != o.modes.begin() + long(i))
+      throw std::invalid_argument("mode '" + o.modes[i] + "' given twice");
+  if (o.runs < 1) throw std::invalid_argument("--runs must be at least 1");
+  if (o.jobs < 1) throw std::invalid_argument("--jobs must be at least 1");
+  if (o.out_dir.empty()) throw std::invalid_argument("no output folder given");
+  if (o.dynslam_binary.empty()) throw std::invalid_argument("no dynslam binary given");
+  for (const auto& s : o.sequences)
+    if (!isDirectory(s) && !fileExists(s))
+      throw InputError(s, "no such sequence (expected a TUM folder or a .rawlog file)");
+  if (!o.config.empty() && !fileExists(o.config)) throw InputError(o.config, "config not found");
+}
+
+std::vector<std::string> sequenceNames(const std::vector<std::string>& sequences) {
+  std::vector<std::string> names;
+  std::map<std::string, int> seen;
+  for (const auto& s : sequences) {
+    fs::path p(s);
+    while (!p.empty() && p.filename().empty()) p = p.parent_path();  // trailing '/'
+    std::string name = isDirectory(s) ? p.filename().string() : p.stem().string();
+    if (name.empty() || name == "." || name == "..") name = "sequence";
+    for (char& c : name)
+      if (c == '/' || c == ' ') c = '_';
+    const int n = ++seen[name];
+    names.push_back(n == 1 ? name : name + "-" + std::to_string(n));
+  }
+  return names;
+}
+
+BenchPlan makeBenchPlan(const BenchOptions& o) {
+  validateBenchOptions(o);
+  BenchPlan plan;
+  plan.options = o;
+  const std::vector<std::string> names = sequenceNames(o.sequences);
+  for (std::size_t i = 0; i < names.size(); ++i)
+    plan.sequences.push_back({names[i], o.sequences[i], sequenceGroundtruthPath(o.sequences[i])});
+  auto absolute = [](const std::string& p) { return fs::absolute(p).lexically_normal().string(); };
+  for (std::size_t s = 0; s < plan.sequences.size(); ++s) {
+    for (const auto& mode : o.modes) {
+      for (int run = 1; run <= o.runs; ++run) {
+        PlannedRun r;
+        r.sequence = s;
+        r.mode = mode;
+        r.run = run;
+        r.dir = o.out_dir + "/" + plan.sequences[s].name + "/" + mode + "/run" + std::to_string(run);
+        r.argv = {absolute(o.dynslam_binary), "run", absolute(plan.sequences[s].path), "-o",
+                  absolute(r.dir), "--mode", mode};
+        if (o.max_frames > 0) {
+          r.argv.push_back("--max-frames");
+          r.argv.push_back(std::to_string(o.max_frames));
+        }
+        if (!o.config.empty()) {
+          r.argv.push_back("--config");
+          r.argv.push_back(absolute(o.config));
+        }
+        plan.runs.push_back(std::move(r));
+      }
+    }
+  }
+  return plan;
+}
+
+std::string benchJobScript(const BenchPlan& plan) {
+  std::string script;
+  for (const PlannedRun& r : plan.runs) {
+    const std::string dir = fs::absolute(r.dir).lexically_normal().string();
+    std::string line = "mkdir -p " + shellQuote(fs::path(dir).parent_path().string()) + " &&";
+    for (const auto& a : r.argv) line += " " + shellQuote(a);
+    script += line + " > " + shellQuote(dir + ".log") + " 2>&1\n";
+  }
+  return script;
+}
+
+void writeBenchPlan(const BenchPlan& plan) {
+  const BenchOptions& o = plan.options;
+  YamlWriter w;
+  w.comment("dynslam bench plan: the runs under this folder (read by `dynslam bench --collect`).")
+      .value("sequences", o.sequences)
+      .value("modes", o.modes)
+      .value("runs", o.runs)
+      .value("max_frames", o.max_frames)
+      .value("config", o.config);
+  const std::string text = w.str();
+  makeDirectories(o.out_dir);
+  writeFileAtomically(o.out_dir + "/" + kBenchPlanFile, [&](std::ostream& os) { os << text; });
+}
+
+BenchPlan readBenchPlan(const std::string& out_dir, const std::string& dynslam_binary) {
+  const std::string path = out_dir + "/" + kBenchPlanFile;
+  if (!fileExists(path))
+    throw InputError(path, "no benchmark plan here (written by `dynslam bench -o DIR` and "
+                           "`dynslam bench --emit-jobs FILE -o DIR`)");
+  ConfigSection root(loadYamlFile(path), path, "");
+  BenchOptions o;
+  o.modes.clear();
+  long long max_frames = 0;
+  root.readList("sequences", o.sequences)
+      .readList("modes", o.modes)
+      .read("runs", o.runs)
+      .read("max_frames", max_frames)
+      .read("config", o.config);
+  root.rejectUnknownKeys();
+  if (max_frames < 0) throw InputError(path, "max_frames must be >= 0");
+  o.max_frames = std::size_t(max_frames);
+  o.out_dir = out_dir;
+  o.dynslam_binary = dynslam_binary;
+  try {
+    return makeBenchPlan(o);
+  } catch (const std::invalid_argument& e) {
+    throw InputError(path, e.what());
+  }
+}
+
+}  // namespace dynslam

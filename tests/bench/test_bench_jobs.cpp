@@ -1,0 +1,260 @@
+// Benchmarks that scale out: `dynslam bench --jobs N` runs the plan N at a
+// time, `--emit-jobs FILE` writes one shell command per run, and `--collect
+// DIR` builds the report from the finished run folders. The reports must be
+// the same however the runs were made: with a fake `dynslam` (fixed
+// outputs) byte for byte, and on 60 real fr1_rpy frames (deterministic runs)
+// in every accuracy and map-size number.
+#include <gtest/gtest.h>
+#include <sys/stat.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "bench/bench_plan.h"
+#include "bench/bench_report.h"
+#include "bench/bench_runner.h"
+#include "core/errors.h"
+#include "rawlog/sequence_source.h"
+#include "testing/test_support.h"
+
+namespace dynslam {
+namespace {
+
+using test::TempDir;
+namespace fs = std::filesystem;
+
+/// A stand-in for `dynslam` that "runs" by writing fixed outputs into its
+/// run folder, with a groundtruth-shaped trajectory (the first groundtruth
+/// poses at the RGB timestamps, shifted by the run number in mm).
+std::string writeFakeDynslam(const TempDir& dir) {
+  const std::string path = dir / "fake_dynslam";
+  test::writeText(path,
+                  "#!/bin/sh\n"
+                  "# args: run SEQ -o DIR --mode MODE ...\n"
+                  "out=\"$4\"; mode=\"$6\"\n"
+                  "mkdir -p \"$out\"\n"
+                  "run=$(basename \"$out\" | tr -d run)\n"
+                  "awk -v r=\"$run\" '!/^#/ && n < 200 { n++; printf \"%s %.4f %s %s %s %s %s %s\\n\", "
+                  "$1, $2 + r * 0.001, $3, $4, $5, $6, $7, $8 }' \"$2/groundtruth.txt\" > "
+                  "\"$out/trajectory.txt\"\n"
+                  "printf '{\\n  \"fps\": 12.5,\\n  \"wall_time_s\": 3.5,\\n  \"peak_rss_mb\": 100,\\n"
+                  "  \"keyframes\": 7,\\n  \"map_points\": 321\\n}\\n' > \"$out/report.json\"\n"
+                  "printf '# t track total\\n1.0 2.0 4.0\\n2.0 3.0 5.0\\n' > \"$out/frame_times.txt\"\n"
+                  "echo \"$mode done\"\n");
+  ::chmod(path.c_str(), 0755);
+  return path;
+}
+
+BenchOptions fakeOptions(const TempDir& tmp, const std::string& out) {
+  BenchOptions o;
+  o.sequences = {test::rpyDir()};
+  o.modes = {"off", "detect"};
+  o.runs = 2;
+  o.out_dir = out;
+  o.dynslam_binary = writeFakeDynslam(tmp);
+  return o;
+}
+
+std::string replaceAll(std::string text, const std::string& from, const std::string& to) {
+  for (auto at = text.find(from); at != std::string::npos; at = text.find(from, at + to.size()))
+    text.replace(at, from.size(), to);
+  return text;
+}
+
+TEST(BenchJobs, ParallelRunsKeepThePlanOrderAndTheReport) {
+  TempDir tmp;
+  BenchOptions o = fakeOptions(tmp, tmp / "serial");
+  const BenchResults serial = BenchRunner(o).runAll();
+  o.out_dir = tmp / "parallel";
+  o.jobs = 3;
+  std::vector<std::string> lines;
+  const BenchResults parallel = BenchRunner(o).runAll([&](const std::string& l) { lines.push_back(l); });
+  ASSERT_EQ(parallel.runs.size(), 4u);
+  EXPECT_EQ(parallel.failures(), 0u) << parallel.runs[0].error;
+  for (std::size_t i = 0; i < 4; ++i) {
+    EXPECT_EQ(parallel.runs[i].mode, i < 2 ? "off" : "detect");
+    EXPECT_EQ(parallel.runs[i].run, int(i % 2) + 1);
+  }
+  EXPECT_EQ(lines.size(), 8u);  // a start and a result line per run
+  // Run 2's trajectory is 1 mm off run 1's: the numbers are each run's own.
+  ASSERT_TRUE(parallel.runs[0].evaluation && parallel.runs[1].evaluation);
+  EXPECT_NE(parallel.runs[0].evaluation->ate.stats.rmse, parallel.runs[1].evaluation->ate.stats.rmse);
+  EXPECT_EQ(replaceAll(BenchReport(parallel).json(), tmp / "parallel", tmp / "serial"),
+            BenchReport(serial).json());
+  EXPECT_DOUBLE_EQ(parallel.runs[0].wall_s, 3.5);  // from the run's report.json
+  EXPECT_DOUBLE_EQ(parallel.runs[0].peak_rss_mb, 100);
+}
+
+TEST(BenchJobs, EmittedCommandsThenCollectGiveTheSameReport) {
+  TempDir tmp;
+  BenchOptions o = fakeOptions(tmp, tmp / "plain");
+  const BenchPlan plain_plan = makeBenchPlan(o);
+  const std::string plain = BenchReport(BenchRunner(o).runAll()).json();
+
+  o.out_dir = tmp / "emitted";
+  const BenchPlan plan = makeBenchPlan(o);
+  writeBenchPlan(plan);
+  const std::string script = benchJobScript(plan);
+  EXPECT_EQ(std::count(script.begin(), script.end(), '\n'), 4);
+  EXPECT_NE(script.find("'" + (tmp / "emitted/rgbd_dataset_freiburg1_rpy/detect/run2") +
+                        "' '--mode' 'detect' > '"),
+            std::string::npos)
+      << script;
+  // Any order, as a job array would run them: last line first.
+  std::vector<std::string> lines;
+  std::istringstream in(script);
+  for (std::string line; std::getline(in, line);) lines.insert(lines.begin(), line);
+  std::string reversed;
+  for (const auto& line : lines) reversed += line + "\n";
+  test::writeText(tmp / "jobs.sh", reversed);
+  const auto r = test::runShellSplit("sh " + test::shellQuote(tmp / "jobs.sh"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(test::readText(tmp / "emitted/rgbd_dataset_freiburg1_rpy/detect/run2.log"), "detect done\n");
+  const BenchPlan read = readBenchPlan(o.out_dir, o.dynslam_binary);
+  ASSERT_EQ(read.runs.size(), plan.runs.size());
+  EXPECT_EQ(read.runs[3].argv, plan.runs[3].argv);
+  const std::string collected = BenchReport(collectBenchResults(read)).json();
+  EXPECT_EQ(replaceAll(collected, tmp / "emitted", tmp / "plain"), plain);
+  EXPECT_EQ(plain_plan.runs[0].dir, tmp / "plain/rgbd_dataset_freiburg1_rpy/off/run1");
+}
+
+TEST(BenchJobs, BadOptionsAreRejected) {
+  TempDir tmp;
+  BenchOptions o = fakeOptions(tmp, tmp / "out");
+  o.jobs = 0;
+  EXPECT_THROW(makeBenchPlan(o), std::invalid_argument);
+  // A plan file that is not one.
+  test::writeText(tmp / "p/bench_plan.yaml", "sequences: [" + test::rpyDir() + "]\nrunz: 2\n");
+  try {
+    readBenchPlan(tmp / "p", o.dynslam_binary);
+    ADD_FAILURE() << "unknown key accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("runz"), std::string::npos) << e.what();
+  }
+  test::writeText(tmp / "q/bench_plan.yaml", "sequences: [/no/such/seq]\nmodes: [off]\n");
+  EXPECT_THROW(readBenchPlan(tmp / "q", o.dynslam_binary), InputError);
+}
+
+// ------------------------------------------------------------------- CLI
+
+TEST(BenchJobsCli, BadArgumentsExit2) {
+  TempDir tmp;
+  const std::string seq = test::rpyDir(), out = tmp / "out";
+  const std::vector<std::vector<std::string>> bad = {
+      {"bench", "--collect", out, seq},
+      {"bench", "--collect", out, "--jobs", "2"},
+      {"bench", "--collect", out, "--modes", "off"},
+      {"bench", seq, "-o", out, "--jobs", "0"},
+      {"bench", seq, "-o", out, "--jobs", "two"},
+      {"bench", seq, "-o", out, "--emit-jobs", tmp / "jobs.txt", "--jobs", "2"},
+      {"bench", seq, "-o", out, "--emit-jobs", ""},
+      {"bench", "-o", out},
+      {"bench", seq},
+  };
+  for (const auto& args : bad) {
+    const auto r = test::runDynslam(args);
+    std::string line;
+    for (const auto& a : args) line += a + " ";
+    EXPECT_EQ(r.exit_code, 2) << line << "\n" << r.output;
+    EXPECT_NE(r.output.find("error"), std::string::npos) << line << "\n" << r.output;
+  }
+  EXPECT_FALSE(fs::exists(tmp / "jobs.txt"));
+  EXPECT_FALSE(fs::exists(out + "/report.json"));
+}
+
+TEST(BenchJobsCli, CollectOfMissingOrPartialRunsFailsNamingThem) {
+  TempDir tmp;
+  const auto none = test::runDynslam({"bench", "--collect", tmp / "nothing"});
+  EXPECT_EQ(none.exit_code, 1) << none.output;
+  EXPECT_NE(none.output.find(tmp / "nothing/bench_plan.yaml"), std::string::npos) << none.output;
+
+  const auto emit = test::runDynslam({"bench", test::rpyDir(), "-o", tmp / "b", "--modes", "off",
+                                      "--runs", "2", "--emit-jobs", tmp / "jobs.txt"});
+  ASSERT_EQ(emit.exit_code, 0) << emit.output;
+  EXPECT_EQ(test::readText(tmp / "jobs.txt").find("mkdir -p "), 0u);
+  const std::string run1 = tmp / "b/rgbd_dataset_freiburg1_rpy/off/run1";
+  const auto missing = test::runDynslam({"bench", "--collect", tmp / "b"});
+  EXPECT_EQ(missing.exit_code, 1) << missing.output;
+  EXPECT_NE(missing.output.find(run1 + ": run folder missing"), std::string::npos) << missing.output;
+
+  // A folder holding only part of a run.
+  test::writeText(run1 + "/report.json", "{\"fps\": 1}\n");
+  const auto partial = test::runDynslam({"bench", "--collect", tmp / "b"});
+  EXPECT_EQ(partial.exit_code, 1) << partial.output;
+  EXPECT_NE(partial.output.find(run1 + "/frame_times.txt"), std::string::npos) << partial.output;
+  EXPECT_FALSE(fs::exists(tmp / "b/report.json"));
+  EXPECT_FALSE(fs::exists(tmp / "b/report.md"));
+}
+
+/// The Markdown report's accuracy and map-size rows (not the timing table,
+/// which no two runs share).
+std::string accuracyRows(const std::string& md) {
+  std::istringstream in(md);
+  std::string out;
+  bool keep = false;
+  for (std::string line; std::getline(in, line);) {
+    if (line.rfind("| mode |", 0) == 0)
+      keep = line.find("ATE RMSE") != std::string::npos || line.find("keyframes") != std::string::npos;
+    if (keep && line.rfind("| ", 0) == 0) out += line + "\n";
+  }
+  return out;
+}
+
+// The acceptance test of issue 21: on 60 fr1_rpy frames, GNU parallel
+// running the emitted commands and --collect give the report a plain
+// `bench --jobs 2` gives; --collect of the plain folder rewrites its report
+// byte for byte.
+TEST(BenchJobsCli, EmitParallelCollectEqualsPlainBench) {
+  TempDir tmp;
+  const auto parallel = test::runShellSplit("parallel --version");
+  if (parallel.exit_code != 0) GTEST_SKIP() << "GNU parallel not installed (scripts/install-deps.sh)";
+  test::writeText(tmp / "det.yaml", "system:\n  deterministic: true\n");
+  const std::vector<std::string> common = {test::rpyDir(), "--modes", "off,flow", "--runs", "1",
+                                           "--max-frames", "60", "--config", tmp / "det.yaml"};
+  auto with = [&](std::vector<std::string> args) {
+    args.insert(args.begin() + 1, common.begin(), common.end());
+    return test::runDynslam(args);
+  };
+  const auto plain = with({"bench", "-o", tmp / "plain", "--jobs", "2"});
+  ASSERT_EQ(plain.exit_code, 0) << plain.output;
+  const auto emit = with({"bench", "-o", tmp / "emitted", "--emit-jobs", tmp / "jobs.txt"});
+  ASSERT_EQ(emit.exit_code, 0) << emit.output;
+  const auto ran = test::runShellSplit("parallel --halt now,fail=1 -j 2 -a " +
+                                       test::shellQuote(tmp / "jobs.txt"));
+  ASSERT_EQ(ran.exit_code, 0) << ran.err;
+  const auto collect = test::runDynslam({"bench", "--collect", tmp / "emitted"});
+  ASSERT_EQ(collect.exit_code, 0) << collect.output;
+
+  const std::string md_plain = test::readText(tmp / "plain/report.md");
+  const std::string md_emitted = test::readText(tmp / "emitted/report.md");
+  const std::string rows = accuracyRows(md_plain);
+  EXPECT_NE(rows.find("| off | 1/1 | 0.0"), std::string::npos) << md_plain;
+  EXPECT_NE(rows.find("| flow | 1/1 | 0.0"), std::string::npos) << md_plain;
+  EXPECT_EQ(accuracyRows(md_emitted), rows);
+  // Every evaluation member of report.json, to all its digits (without the
+  // estimate's path, which names the run folder).
+  auto evaluations = [](const std::string& json) {
+    std::string out;
+    for (auto at = json.find("\"evaluation\": {"); at != std::string::npos;
+         at = json.find("\"evaluation\": {", at + 1)) {
+      const std::size_t indent = at - json.rfind('\n', at) - 1;
+      const auto end = json.find("\n" + std::string(indent, ' ') + "}", at);
+      std::istringstream in(json.substr(at, end - at));
+      for (std::string line; std::getline(in, line);)
+        if (line.find("\"estimate\"") == std::string::npos) out += line + "\n";
+    }
+    return out;
+  };
+  const std::string json_plain = test::readText(tmp / "plain/report.json");
+  EXPECT_NE(evaluations(json_plain).find("\"rmse\""), std::string::npos) << json_plain;
+  EXPECT_EQ(evaluations(test::readText(tmp / "emitted/report.json")), evaluations(json_plain));
+
+  const auto again = test::runDynslam({"bench", "--collect", tmp / "plain"});
+  ASSERT_EQ(again.exit_code, 0) << again.output;
+  EXPECT_EQ(test::readText(tmp / "plain/report.json"), json_plain);
+  EXPECT_EQ(test::readText(tmp / "plain/report.md"), md_plain);
+}
+
+}  // namespace
+}  // namespace dynslam

@@ -1,0 +1,205 @@
+// The config's parameter lists (system/slam_config_options.h): the shipped
+// configs/dynslam.yaml holds every key with exactly the code's default, the
+// YAML a run writes (config_used.yaml) reads back to the same values, every
+// section rejects unknown keys, and a run given its own config_used.yaml
+// repeats itself byte for byte.
+#include <gtest/gtest.h>
+
+#include <mrpt/containers/yaml.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "core/config_reader.h"
+#include "core/errors.h"
+#include "core/run_layout.h"
+#include "system/slam_config_options.h"
+#include "system/system_config.h"
+#include "testing/test_support.h"
+
+using namespace dynslam;
+using namespace dynslam::test;
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string shippedConfig() { return sourceDir() + "/configs/dynslam.yaml"; }
+
+/// The text without '#' comment lines (the dump's header names its source).
+std::string withoutComments(const std::string& text) {
+  std::istringstream in(text);
+  std::string out;
+  for (std::string line; std::getline(in, line);) {
+    const auto first = line.find_first_not_of(' ');
+    if (first == std::string::npos || line[first] != '#') out += line + "\n";
+  }
+  return out;
+}
+
+/// Every section's dotted path, in list order.
+std::vector<std::string> sectionNames() {
+  const SlamConfig c;
+  std::vector<std::string> names;
+  forEachSlamConfigSection(c, [&](const std::string& name, auto&&) { names.push_back(name); });
+  return names;
+}
+
+/// "a.b" + "k" as nested YAML: "a:\n  b:\n    k: v\n".
+std::string nestedYaml(const std::string& dotted, const std::string& key, const std::string& v) {
+  std::string yaml, indent;
+  std::stringstream ss(dotted);
+  for (std::string part; std::getline(ss, part, '.'); indent += "  ") yaml += indent + part + ":\n";
+  return yaml + indent + key + ": " + v + "\n";
+}
+
+}  // namespace
+
+// The code's defaults are what loading an empty file gives (the vocabulary
+// resolved to the shipped one); the shipped file must spell each key, and
+// give it that value.
+TEST(ConfigOptions, ShippedConfigHoldsExactlyTheCodeDefaults) {
+  TempDir d;
+  writeText(d / "empty.yaml", "");
+  const SlamConfig defaults = loadSlamConfig(d / "empty.yaml");
+  const SlamConfig shipped = loadSlamConfig(shippedConfig());
+  EXPECT_EQ(withoutComments(slamConfigYaml(shipped)), withoutComments(slamConfigYaml(defaults)));
+
+  const mrpt::containers::yaml file = loadYamlFile(shippedConfig());
+  std::size_t keys = 0;
+  forEachSlamConfigSection(defaults, [&](const std::string& name, auto&& for_each) {
+    ConfigSection section(file, shippedConfig(), "");
+    std::stringstream ss(name);
+    for (std::string part; std::getline(ss, part, '.');) {
+      ASSERT_TRUE(section.has(part)) << "section " << name << " missing";
+      ConfigSection child = section.sub(part);
+      section = child;
+    }
+    for_each([&](const char* key, const auto&) {
+      ++keys;
+      EXPECT_TRUE(section.has(key)) << name << "." << key << " missing from configs/dynslam.yaml";
+    });
+  });
+  EXPECT_GT(keys, 100u);
+}
+
+// A config with no value at its default, dumped and read back, gives the
+// same values (numbers exactly, paths resolved, lists whole).
+TEST(ConfigOptions, DumpReadsBackToTheSameValues) {
+  TempDir d;
+  writeText(d / "odd.yaml",
+            "system:\n  bf: 0.1\n  deterministic: true\n"
+            "orb:\n  scale_factor: 1.15\n  n_features: 777\n"
+            "dynamic:\n  max_map_inliers_flagged: 0.3333333333333333\n"
+            "  detector:\n    model: models/m.onnx\n    dynamic_classes: [person, dog]\n"
+            "    interval_frames: 3\n"
+            "  motion_check:\n    region_grow:\n      step_tolerance: 1e-3\n"
+            "loop_closing:\n  vocabulary: voc.bin\n"
+            "map_export:\n  voxel_leaf: 0.02\n"
+            "occupancy_map:\n  resolution: 0.1\n");
+  const SlamConfig c = loadSlamConfig(d / "odd.yaml");
+  EXPECT_EQ(c.dynamic.detector.model_path, d / "models/m.onnx");
+  EXPECT_EQ(c.loop.vocabulary, d / "voc.bin");
+  EXPECT_EQ(c.dynamic.detector.dynamic_classes, (std::vector<std::string>{"person", "dog"}));
+  const std::string dump = slamConfigYaml(c);
+  fs::create_directories(d / "elsewhere");
+  writeText(d / "elsewhere/used.yaml", dump);
+  const SlamConfig back = loadSlamConfig(d / "elsewhere/used.yaml");
+  EXPECT_EQ(withoutComments(slamConfigYaml(back)), withoutComments(dump));
+  EXPECT_EQ(back.system.bf, 0.1);
+  EXPECT_TRUE(back.system.deterministic);
+  EXPECT_EQ(back.orb.scale_factor, 1.15f);
+  EXPECT_EQ(back.orb.n_features, 777);
+  EXPECT_EQ(back.dynamic.max_map_inliers_flagged, 1.0 / 3.0);
+  EXPECT_EQ(back.dynamic.detector_interval, 3);
+  // A float field: the same float as read from "1e-3".
+  EXPECT_EQ(back.dynamic.motion.grow.step_tolerance, c.dynamic.motion.grow.step_tolerance);
+  EXPECT_NEAR(back.dynamic.motion.grow.step_tolerance, 1e-3, 1e-9);
+  EXPECT_EQ(back.dynamic.detector.model_path, d / "models/m.onnx");  // absolute in the dump
+  EXPECT_EQ(back.loop.vocabulary, d / "voc.bin");
+  EXPECT_EQ(back.dynamic.detector.dynamic_classes, (std::vector<std::string>{"person", "dog"}));
+  EXPECT_EQ(back.map_export.voxel_leaf, 0.02);
+  EXPECT_EQ(back.occupancy_map.resolution, 0.1);
+  EXPECT_NE(dump.find("  bundle_adjustment:\n    iterations_first: 5\n"), std::string::npos) << dump;
+}
+
+// Every section of the list rejects a key it does not list, naming the file
+// and the key's dotted path.
+TEST(ConfigOptions, EverySectionRejectsUnknownKeys) {
+  TempDir d;
+  const std::vector<std::string> names = sectionNames();
+  EXPECT_EQ(names.size(), 15u);
+  for (const std::string& name : names) {
+    writeText(d / "bad.yaml", nestedYaml(name, "no_such_key", "1"));
+    try {
+      loadSlamConfig(d / "bad.yaml");
+      ADD_FAILURE() << name << ": accepted an unknown key";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(d / "bad.yaml"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(name + ".no_such_key"), std::string::npos) << e.what();
+    }
+  }
+  // The export sections are checked by the run too (not only by export).
+  writeText(d / "bad.yaml", "map_export:\n  pixel_stride: 0\n");
+  EXPECT_THROW(loadSlamConfig(d / "bad.yaml"), InputError);
+  writeText(d / "bad.yaml", "occupancy_map:\n  prob_hit: 0.2\n");
+  EXPECT_THROW(loadSlamConfig(d / "bad.yaml"), InputError);
+}
+
+TEST(ConfigOptions, KeyListNamesEverySectionAndKey) {
+  const std::string keys = slamConfigKeys();
+  for (const std::string& name : sectionNames())
+    EXPECT_NE(keys.find(name + ": "), std::string::npos) << name;
+  EXPECT_NE(keys.find("dynamic.detector: model, conf_threshold, nms_iou, interval_frames, "
+                      "dynamic_classes\n"),
+            std::string::npos)
+      << keys;
+}
+
+// `dynslam config` prints what a run writes; bad arguments exit 2, a bad
+// file 1 naming it.
+TEST(ConfigCli, PrintsTheEffectiveConfig) {
+  TempDir d;
+  const SplitCommandResult r = runDynslamSplit({"config"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(withoutComments(r.out), withoutComments(slamConfigYaml(loadSlamConfig(shippedConfig()))));
+  const CommandResult help = runDynslam({"config", "--help"});
+  EXPECT_EQ(help.exit_code, 0);
+  EXPECT_NE(help.output.find("local_mapper.bundle_adjustment"), std::string::npos) << help.output;
+  EXPECT_EQ(runDynslam({"config", "--no-such-flag"}).exit_code, 2);
+  writeText(d / "bad.yaml", "orb:\n  n_features: 10\n");
+  const CommandResult bad = runDynslam({"config", "--config", d / "bad.yaml"});
+  EXPECT_EQ(bad.exit_code, 1);
+  EXPECT_NE(bad.output.find(d / "bad.yaml"), std::string::npos) << bad.output;
+  const CommandResult missing = runDynslam({"config", "--config", d / "none.yaml"});
+  EXPECT_EQ(missing.exit_code, 1);
+  EXPECT_NE(missing.output.find(d / "none.yaml"), std::string::npos) << missing.output;
+}
+
+// A deterministic run's config_used.yaml, given back with --config (and no
+// --deterministic: the file says so), repeats the run byte for byte.
+TEST(ConfigUsed, GivenBackReproducesTheRun) {
+  TempDir d;
+  const CommandResult a = runDynslam({"run", rpyDir(), "-o", d / "a", "--max-frames", "30",
+                                      "--mode", "detect+flow", "--deterministic"});
+  ASSERT_EQ(a.exit_code, 0) << a.output;
+  const std::string used = d / ("a/" + std::string(kConfigUsedFile));
+  const std::string text = readText(used);
+  EXPECT_NE(text.find("  deterministic: true\n"), std::string::npos) << text;
+  // The whole config: the shipped file's values with the override applied.
+  SlamConfig expected = loadSlamConfig(shippedConfig());
+  expected.system.deterministic = true;
+  EXPECT_EQ(withoutComments(text), withoutComments(slamConfigYaml(expected)));
+
+  const CommandResult b =
+      runDynslam({"run", rpyDir(), "-o", d / "b", "--max-frames", "30", "--mode", "detect+flow",
+                  "--config", used});
+  ASSERT_EQ(b.exit_code, 0) << b.output;
+  for (const char* f : {"trajectory.txt", "keyframes.txt", "map_points.txt"}) {
+    const std::string fa = readText(d / ("a/" + std::string(f)));
+    EXPECT_FALSE(fa.empty()) << f;
+    EXPECT_EQ(fa, readText(d / ("b/" + std::string(f)))) << f;
+  }
+  EXPECT_EQ(withoutComments(readText(d / ("b/" + std::string(kConfigUsedFile)))),
+            withoutComments(text));
+}
