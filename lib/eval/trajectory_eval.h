@@ -98,6 +98,10 @@ std::vector<Eigen::Vector3d> alignedEstimatePositions(const Trajectory& estimate
 /// associates with groundtruth (as computeAte pairs them), the groundtruth
 /// pose taken into the estimate's frame by the inverse of the ATE alignment,
 /// stamped with the estimate's timestamp (unassociated poses are left out).
+/// The alignment fits positions only: when the camera centre moves along
+/// nearly a line (e.g. the first 60 frames of fr1_rpy: 4 cm, turning ~100 deg
+/// in place) the rotation about that line is undetermined and the result can
+/// be off by tens of degrees (99 deg there; 4 deg on the whole sequence).
 /// Throws EvaluationError as computeAte does.
 Trajectory groundtruthInEstimateFrame(const Trajectory& groundtruth, const Trajectory& estimate,
                                       double max_dt = kDefaultMaxDt);

@@ -1,28 +1,34 @@
 // Map reuse through the real binary (issue 18), on the first 60 frames of
 // fr1_rpy: a run saves its map, a second run localises in it. The map file
 // must be byte-identical afterwards, the localisation must start at the
-// first frame, and its poses must lie in the map's world frame: compared
-// with the groundtruth brought into that frame by the mapping run's ATE
-// alignment, with no new alignment (a trajectory frozen at the first pose
-// fails the rotation bound by far: the camera turns ~20 deg in 60 frames).
+// first frame, and its poses must lie in the map's world frame. That frame
+// is known from the groundtruth alone: it is the camera frame of the mapping
+// run's first frame (`dynslam run`: "first frame at identity", checked), so
+// the truth in the map frame is gt(t0)^-1 gt(t). It is NOT taken from the
+// ATE alignment: over these 60 frames the camera centre moves 4 cm along
+// nearly one line (the camera turns ~100 deg in place), so the
+// position-only alignment leaves the rotation about that line free (it is
+// ~99 deg off the orientations' frame on this run).
 // Bad uses exit 1 (bad map file) or 2 (bad flags) and leave no run folder.
 #include <gtest/gtest.h>
 
+#include <mrpt/math/slerp.h>
 #include <opencv2/core.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
-#include <map>
+#include <optional>
 
 #include "core/trajectory.h"
-#include "eval/trajectory_eval.h"
 #include "testing/test_support.h"
 
 using namespace dynslam;
 using namespace dynslam::test;
 namespace fs = std::filesystem;
+using mrpt::poses::CPose3D;
 
 namespace {
 
@@ -33,28 +39,62 @@ std::string bytesOf(const std::string& path) {
   return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
 }
 
-double rotationDeg(const mrpt::poses::CPose3D& a, const mrpt::poses::CPose3D& b) {
+double rotationDeg(const CPose3D& a, const CPose3D& b) {
   const auto R = (a - b).getRotationMatrix();
   const double c = std::clamp((R(0, 0) + R(1, 1) + R(2, 2) - 1.0) / 2.0, -1.0, 1.0);
   return std::acos(c) * 180.0 / M_PI;
 }
 
-/// Worst position (m) and rotation (deg) error of `estimate` against `truth`
-/// (same timestamps), no alignment.
-std::pair<double, double> worstError(const Trajectory& truth, const Trajectory& estimate) {
-  std::map<long long, mrpt::poses::CPose3D> by_time;
-  for (const auto& p : truth) by_time[std::llround(p.timestamp * 1e6)] = p.pose;
-  double pos = 0, rot = 0;
+/// The groundtruth pose at time t, interpolated between the two samples
+/// around it (linear position, slerp rotation; fr1 groundtruth is 100 Hz, the
+/// camera turns up to ~1 deg between samples). None outside the groundtruth
+/// or across a gap of more than 0.05 s.
+std::optional<CPose3D> groundtruthAt(const Trajectory& gt, double t) {
+  const auto after = std::lower_bound(gt.begin(), gt.end(), t,
+                                      [](const StampedPose& p, double x) { return p.timestamp < x; });
+  if (after == gt.begin() || after == gt.end()) return std::nullopt;
+  const StampedPose& a = *(after - 1);
+  const StampedPose& b = *after;
+  if (b.timestamp - a.timestamp > 0.05) return std::nullopt;
+  mrpt::math::TPose3D p;
+  mrpt::math::slerp(a.pose.asTPose(), b.pose.asTPose(), (t - a.timestamp) / (b.timestamp - a.timestamp), p);
+  return CPose3D(p);
+}
+
+struct Errors {
+  double pos = 0, rot = 0;            ///< worst position (m) and rotation (deg) error
+  double mean_pos = 0, mean_rot = 0;  ///< their means
   int compared = 0;
-  for (const auto& p : estimate) {
-    auto it = by_time.find(std::llround(p.timestamp * 1e6));
-    if (it == by_time.end()) continue;
-    ++compared;
-    pos = std::max(pos, (p.pose.translation() - it->second.translation()).norm());
-    rot = std::max(rot, rotationDeg(p.pose, it->second));
+};
+
+/// Errors of `estimate` against the groundtruth in the map's world frame,
+/// the camera frame of the mapping run's first frame (time t0): truth(t) =
+/// gt(t0)^-1 gt(t). No alignment.
+Errors errorsInMapFrame(const Trajectory& gt, double t0, const Trajectory& estimate) {
+  const std::optional<CPose3D> first = groundtruthAt(gt, t0);
+  Errors e;
+  if (!first) {
+    ADD_FAILURE() << "no groundtruth at the map's first frame";
+    return e;
   }
-  EXPECT_GE(compared, kFrames - 5);
-  return {pos, rot};
+  for (const auto& p : estimate) {
+    const std::optional<CPose3D> at = groundtruthAt(gt, p.timestamp);
+    if (!at) continue;
+    const CPose3D truth = (-*first) + *at;
+    ++e.compared;
+    const double pos = (p.pose.translation() - truth.translation()).norm();
+    const double rot = rotationDeg(p.pose, truth);
+    e.pos = std::max(e.pos, pos);
+    e.rot = std::max(e.rot, rot);
+    e.mean_pos += pos;
+    e.mean_rot += rot;
+  }
+  if (e.compared > 0) {
+    e.mean_pos /= e.compared;
+    e.mean_rot /= e.compared;
+  }
+  EXPECT_GE(e.compared, kFrames - 5);
+  return e;
 }
 
 class SavedMap : public ::testing::Test {
@@ -68,18 +108,25 @@ class SavedMap : public ::testing::Test {
   static void TearDownTestSuite() { delete dir_; }
   static std::string mapping() { return *dir_ / "mapping"; }
   static std::string mapFile() { return mapping() + "/map.dsm"; }
+  static Trajectory groundtruth() { return readTumTrajectory(rpyDir() + "/groundtruth.txt"); }
+  /// The mapping run's first frame (the map's world frame) and its own errors
+  /// against the truth in that frame: a run in the map is held to these.
+  static double firstTimestamp() { return readTumTrajectory(mapping() + "/trajectory.txt").front().timestamp; }
+  static Errors mappingErrors() {
+    const Trajectory map_run = readTumTrajectory(mapping() + "/trajectory.txt");
+    const CPose3D& first = map_run.front().pose;
+    EXPECT_LT(first.translation().norm() + std::abs(first.yaw()) + std::abs(first.pitch()) +
+                  std::abs(first.roll()), 1e-6)
+        << "the mapping run's first frame is not at identity";
+    return errorsInMapFrame(groundtruth(), firstTimestamp(), map_run);
+  }
   static TempDir* dir_;
 };
 TempDir* SavedMap::dir_ = nullptr;
 
 }  // namespace
 
-// DISABLED (issue 18, open): fails with a worst rotation error of 102 deg
-// against the groundtruth brought into the map frame, while the localised
-// trajectory agrees with the mapping run's within 10 mm on all 60 frames
-// (measured 2026-12-02): the comparison (groundtruthInEstimateFrame /
-// worstError) or the saved frame is wrong; not resolved yet.
-TEST_F(SavedMap, DISABLED_LocalisationTracksInTheMapsFrameAndLeavesItUnchanged) {
+TEST_F(SavedMap, LocalisationTracksInTheMapsFrameAndLeavesItUnchanged) {
   ASSERT_TRUE(fs::exists(mapFile()));
   const std::string before = bytesOf(mapFile());
   const std::string loc = *dir_ / "loc";
@@ -99,27 +146,42 @@ TEST_F(SavedMap, DISABLED_LocalisationTracksInTheMapsFrameAndLeavesItUnchanged) 
   ASSERT_GE(report["relocalisations"].size(), 1u);
   EXPECT_LE(static_cast<int>(report["relocalisations"][0]["frame"]), 2) << "late cold start";
 
-  const Trajectory gt = readTumTrajectory(rpyDir() + "/groundtruth.txt");
-  const Trajectory map_run = readTumTrajectory(mapping() + "/trajectory.txt");
-  const Trajectory truth_in_map = groundtruthInEstimateFrame(gt, map_run);
+  // Against the truth in the map frame, the mapping run itself is off by up
+  // to 7.8 cm and 4.6 deg (measured 2026-12-02; median 1.8 deg): the
+  // localisation must do as well, within 1 cm and 1 deg.
+  const Errors mapped_err = mappingErrors();
+  EXPECT_LT(mapped_err.pos, 0.10);
+  EXPECT_LT(mapped_err.rot, 6.0);
+  const Trajectory gt = groundtruth();
   const Trajectory located = readTumTrajectory(loc + "/trajectory.txt");
-  const auto [pos, rot] = worstError(truth_in_map, located);
-  EXPECT_LT(pos, 0.05);
-  EXPECT_LT(rot, 3.0);
-  // The bound is one a frozen trajectory fails.
+  const Errors e = errorsInMapFrame(gt, firstTimestamp(), located);
+  EXPECT_LT(e.pos, mapped_err.pos + 0.01);
+  EXPECT_LT(e.rot, mapped_err.rot + 1.0);
+  EXPECT_LT(e.mean_pos, mapped_err.mean_pos + 0.005);
+  EXPECT_LT(e.mean_rot, mapped_err.mean_rot + 0.5);
+  // The bound is one a frozen trajectory fails by far (the camera turns
+  // ~100 deg in these 60 frames).
   Trajectory frozen = located;
   for (auto& p : frozen) p.pose = located.front().pose;
-  EXPECT_GT(worstError(truth_in_map, frozen).second, 3 * 3.0);
+  EXPECT_GT(errorsInMapFrame(gt, firstTimestamp(), frozen).rot, 3 * (mapped_err.rot + 1.0));
 }
 
-// DISABLED (issue 18, open): the same 102 deg comparison failure, and 3098
-// map points against a bound of 3043 (1.5 x the saved 2029).
-TEST_F(SavedMap, DISABLED_SecondSessionGoesOnInTheMapAndSavesItGrown) {
-  const std::string second = *dir_ / "second";
-  const CommandResult r =
-      runDynslam({"run", rpyDir(), "--mode", "off", "--deterministic", "--max-frames",
-                  std::to_string(kFrames), "--map", mapFile(), "--save-map", "-o", second});
-  ASSERT_EQ(r.exit_code, 0) << r.output;
+namespace {
+/// A second session on the saved map, mapping the same 60 frames again.
+std::string secondSession(const std::string& dir, const std::string& map_file) {
+  const std::string second = dir + "/second";
+  if (!fs::exists(second + "/report.json")) {
+    const CommandResult r =
+        runDynslam({"run", rpyDir(), "--mode", "off", "--deterministic", "--max-frames",
+                    std::to_string(kFrames), "--map", map_file, "--save-map", "-o", second});
+    EXPECT_EQ(r.exit_code, 0) << r.output;
+  }
+  return second;
+}
+}  // namespace
+
+TEST_F(SavedMap, SecondSessionGoesOnInTheMapAndSavesItGrown) {
+  const std::string second = secondSession(dir_->path(), mapFile());
   cv::FileStorage report(second + "/report.json", cv::FileStorage::READ | cv::FileStorage::FORMAT_JSON);
   cv::FileStorage mapped(mapping() + "/report.json", cv::FileStorage::READ | cv::FileStorage::FORMAT_JSON);
   ASSERT_TRUE(report.isOpened());
@@ -127,17 +189,35 @@ TEST_F(SavedMap, DISABLED_SecondSessionGoesOnInTheMapAndSavesItGrown) {
   EXPECT_GE(static_cast<int>(report["tracked_frames"]), kFrames - 2);
   ASSERT_GE(report["relocalisations"].size(), 1u);
   EXPECT_LE(static_cast<int>(report["relocalisations"][0]["frame"]), 2);
-  // The saved map holds the loaded keyframes (the same sequence again adds
-  // few points: its places are mapped already).
-  const int points_before = static_cast<int>(mapped["map_points"]);
-  EXPECT_GT(static_cast<int>(report["map_points"]), points_before / 2);
-  EXPECT_LT(static_cast<int>(report["map_points"]), points_before * 3 / 2);
+  // The saved map holds the loaded keyframes and more points than half the
+  // loaded ones (how many more: SecondSessionGrowsTheMapByLessThanTenPercent).
+  EXPECT_GE(static_cast<int>(report["keyframes"]), static_cast<int>(mapped["keyframes"]));
+  EXPECT_GT(static_cast<int>(report["map_points"]), static_cast<int>(mapped["map_points"]) / 2);
   EXPECT_GT(fs::file_size(second + "/map.dsm"), fs::file_size(mapFile()) / 2);
-  const Trajectory gt = readTumTrajectory(rpyDir() + "/groundtruth.txt");
-  const Trajectory truth_in_map = groundtruthInEstimateFrame(gt, readTumTrajectory(mapping() + "/trajectory.txt"));
-  const auto [pos, rot] = worstError(truth_in_map, readTumTrajectory(second + "/trajectory.txt"));
-  EXPECT_LT(pos, 0.05);
-  EXPECT_LT(rot, 3.0);
+  // Its poses are in the loaded map's frame, as accurate as the mapping run's.
+  const Errors mapped_err = mappingErrors();
+  const Errors e = errorsInMapFrame(groundtruth(), firstTimestamp(), readTumTrajectory(second + "/trajectory.txt"));
+  EXPECT_LT(e.pos, mapped_err.pos + 0.01);
+  EXPECT_LT(e.rot, mapped_err.rot + 1.0);
+  EXPECT_LT(e.mean_pos, mapped_err.mean_pos + 0.005);
+  EXPECT_LT(e.mean_rot, mapped_err.mean_rot + 0.5);
+}
+
+// DISABLED (issue 18, open): the issue's acceptance, growth < 10 %, is not
+// met. Measured 2026-12-02 (--mode off --deterministic): on these 60 frames
+// 2029 -> 3098 map points (+53 %), 14 -> 25 keyframes; on the whole fr1_rpy
+// 12598 -> 26319 (+109 %), 276 -> 469 keyframes. The second session inserts
+// keyframes at the first session's rate (tracked < 0.75 x the reference
+// keyframe's points, the mapper being idle) and each adds ~500 points from
+// untracked close keypoints, of which fusion merges ~300. The old bound here
+// (1.5 x) was not the acceptance and failed too (3098 against 3043).
+TEST_F(SavedMap, DISABLED_SecondSessionGrowsTheMapByLessThanTenPercent) {
+  const std::string second = secondSession(dir_->path(), mapFile());
+  cv::FileStorage report(second + "/report.json", cv::FileStorage::READ | cv::FileStorage::FORMAT_JSON);
+  cv::FileStorage mapped(mapping() + "/report.json", cv::FileStorage::READ | cv::FileStorage::FORMAT_JSON);
+  ASSERT_TRUE(report.isOpened());
+  const int points_before = static_cast<int>(mapped["map_points"]);
+  EXPECT_LT(static_cast<int>(report["map_points"]), points_before * 11 / 10);
 }
 
 TEST_F(SavedMap, ExportWorksOnALocalisationRun) {
