@@ -83,7 +83,7 @@ RunSummary runSlam(const RunOptions& opt) {
   if (opt.max_frames > 0) n = std::min(n, opt.max_frames);
   // The run folder is one unit: written beside and moved into place when
   // complete (an earlier run there is replaced whole).
-  StagedFolder staged(opt.out_dir, {"run_info.yaml", "report.json", "trajectory.txt"});
+  StagedFolder staged(opt.out_dir, {kRunInfoFile, kReportFile, kTrajectoryFile});
 
   // A third of the keypoints can land on movers and be dropped: the dynamic
   // modes extract more so that tracking keeps enough static ones.
@@ -186,16 +186,16 @@ RunSummary runSlam(const RunOptions& opt) {
   sum.fps = wall > 0 ? n / wall : 0;
   sum.interrupted_by = interrupted_by;
 
-  const std::string dir = staged.path();
+  const RunLayout layout{staged.path()};
   const std::string header = "dynslam " DYNSLAM_VERSION " run of " + opt.input;
-  if (opt.save_map) slam.saveMap(dir + "/map.dsm");
+  if (opt.save_map) slam.saveMap(layout.savedMap());
   // Localisation must leave the map as it was read: checked, not assumed.
   const bool map_unchanged =
       opt.localize && mapio::crc32Of(slam.encodeMap(), mapio::kMapHeaderBytes) == loaded.payload_crc;
-  writeTumTrajectory(dir + "/trajectory.txt", slam.frameTrajectory(), header);
-  writeTumTrajectory(dir + "/keyframes.txt", slam.keyFrameTrajectory(), header + " (keyframes)");
-  writeMapPoints(dir + "/map_points.txt", slam.map());
-  writeFileAtomically(dir + "/frame_times.txt", [&](std::ostream& os) {
+  writeTumTrajectory(layout.trajectory(), slam.frameTrajectory(), header);
+  writeTumTrajectory(layout.keyFrames(), slam.keyFrameTrajectory(), header + " (keyframes)");
+  writeMapPoints(layout.mapPoints(), slam.map());
+  writeFileAtomically(layout.frameTimes(), [&](std::ostream& os) {
     os << "# timestamp track_ms frame_total_ms (one line per frame, read by `dynslam bench`)\n";
     char line[96];
     for (const auto& [t, track, total] : frame_times) {
@@ -205,17 +205,17 @@ RunSummary runSlam(const RunOptions& opt) {
   });
   if (!keyframe_masks.empty()) {
     // Per-keyframe dynamic pixels, so `dynslam export` leaves movers out.
-    makeDirectories(dir + "/" + kDynamicMasksDir);
+    makeDirectories(layout.dynamicMasksDir());
     for (const auto& [t, mask] : keyframe_masks) {
       std::vector<uint8_t> png;
       cv::imencode(".png", mask, png);
-      writeFileAtomically(dynamicMaskPath(dir, t), [&](std::ostream& os) {
+      writeFileAtomically(layout.dynamicMask(t), [&](std::ostream& os) {
         os.write(reinterpret_cast<const char*>(png.data()), static_cast<std::streamsize>(png.size()));
       }, true);
     }
   }
-  writeFileAtomically(dir + "/" + kConfigUsedFile, [&](std::ostream& os) { os << config_used; });
-  writeFileAtomically(dir + "/run_info.yaml", [&](std::ostream& os) {
+  writeFileAtomically(layout.configUsed(), [&](std::ostream& os) { os << config_used; });
+  writeFileAtomically(layout.runInfo(), [&](std::ostream& os) {
     os << "# Inputs of this run (read by `dynslam export`).\n"
        << "input: " << yamlQuote(std::filesystem::absolute(opt.input).string()) << "\n"
        << "camera_config: "
@@ -368,7 +368,7 @@ RunSummary runSlam(const RunOptions& opt) {
       .value("ms", gba.ms)
       .endObject();
   w.endObject();
-  writeFileAtomically(dir + "/report.json", [&](std::ostream& os) { os << w.str(); });
+  writeFileAtomically(layout.report(), [&](std::ostream& os) { os << w.str(); });
   staged.commit();
   return sum;
 }

@@ -184,3 +184,19 @@ TEST(RunLayout, DynamicMaskPathKeepsSixDecimals) {
             "out/run/dynamic_masks/1305031229.528748.png");
   EXPECT_EQ(dynamicMaskPath("r", 12.5), "r/dynamic_masks/12.500000.png");
 }
+
+// The names README and docs/ promise for a run folder (export, bench and
+// user scripts open them by these names).
+TEST(RunLayout, FileNamesOfARunFolder) {
+  const RunLayout run{"out/run"};
+  EXPECT_EQ(run.trajectory(), "out/run/trajectory.txt");
+  EXPECT_EQ(run.keyFrames(), "out/run/keyframes.txt");
+  EXPECT_EQ(run.mapPoints(), "out/run/map_points.txt");
+  EXPECT_EQ(run.runInfo(), "out/run/run_info.yaml");
+  EXPECT_EQ(run.frameTimes(), "out/run/frame_times.txt");
+  EXPECT_EQ(run.report(), "out/run/report.json");
+  EXPECT_EQ(run.configUsed(), "out/run/config_used.yaml");
+  EXPECT_EQ(run.savedMap(), "out/run/map.dsm");
+  EXPECT_EQ(run.dynamicMasksDir(), "out/run/dynamic_masks");
+  EXPECT_EQ(run.dynamicMask(1305031229.528748), "out/run/dynamic_masks/1305031229.528748.png");
+}
