@@ -67,8 +67,6 @@ double latestStageMs(const StageTimes& times, const std::string& stage, std::siz
 }  // namespace
 
 RunSummary runSlam(const RunOptions& opt) {
-  if (opt.mode != "off" && opt.mode != "detect" && opt.mode != "flow" && opt.mode != "detect+flow")
-    throw std::runtime_error("--mode " + opt.mode + ": expected off, detect, flow or detect+flow");
   if (opt.localize && opt.map_path.empty())
     throw std::invalid_argument("localisation needs a map (--map MAP.dsm)");
   if (opt.localize && opt.save_map)
@@ -87,7 +85,7 @@ RunSummary runSlam(const RunOptions& opt) {
 
   // A third of the keypoints can land on movers and be dropped: the dynamic
   // modes extract more so that tracking keeps enough static ones.
-  if (opt.mode != "off" && cfg.dynamic.orb_features > 0) cfg.orb.n_features = cfg.dynamic.orb_features;
+  if (opt.mode != DynamicMode::kOff && cfg.dynamic.orb_features > 0) cfg.orb.n_features = cfg.dynamic.orb_features;
   SlamSystem slam(cfg, source->camera());
   mapio::LoadedMap loaded;
   double map_load_s = 0, map_load_cpu_s = 0, rss_after_load = 0;
@@ -100,10 +98,10 @@ RunSummary runSlam(const RunOptions& opt) {
     rss_after_load = peakRssMb();
   }
   std::unique_ptr<DynamicFeatureFilter> filter;
-  if (opt.mode != "off") {
+  if (opt.mode != DynamicMode::kOff) {
     DynamicFilterParams dp = cfg.dynamic;
-    dp.use_detector = opt.mode != "flow";
-    dp.use_flow = opt.mode != "detect";
+    dp.use_detector = usesDetector(opt.mode);
+    dp.use_flow = usesFlow(opt.mode);
     if (cfg.system.deterministic) dp.async_detector = false;  // reproducible
     filter = std::make_unique<DynamicFeatureFilter>(dp, source->camera());
     slam.setPreprocessor(filter.get());
@@ -223,7 +221,7 @@ RunSummary runSlam(const RunOptions& opt) {
        << "\n"
        << "sensor: " << yamlQuote(opt.sensor) << "\n"
        << "config: " << yamlQuote(std::filesystem::absolute(config_path).string()) << "\n"
-       << "mode: " << yamlQuote(opt.mode) << "\n"
+       << "mode: " << yamlQuote(dynamicModeName(opt.mode)) << "\n"
        << "map: "
        << yamlQuote(opt.map_path.empty() ? "" : std::filesystem::absolute(opt.map_path).string())
        << "\n"
@@ -237,7 +235,7 @@ RunSummary runSlam(const RunOptions& opt) {
       .value("input", opt.input)
       .value("camera", source->camera().name)
       .value("config", config_path)
-      .value("mode", opt.mode)
+      .value("mode", dynamicModeName(opt.mode))
       .value("deterministic", cfg.system.deterministic)
       .value("interrupted", interrupted_by != 0)
       .value("frames", n)

@@ -18,6 +18,8 @@
 //   map.dsm          with save_map: the final map (docs/map_file.md)
 #include <string>
 
+#include "core/dynamic_mode.h"
+
 namespace dynslam {
 
 struct RunOptions {
@@ -26,7 +28,7 @@ struct RunOptions {
   std::string config_path;    ///< empty: configs/dynslam.yaml
   std::string camera_config;  ///< empty: from the sequence
   std::string sensor;         ///< rawlog 3D sensor label; empty: its only one
-  std::string mode = "detect+flow";  ///< detect+flow | detect | flow | off
+  DynamicMode mode = DynamicMode::kDetectAndFlow;
   std::size_t max_frames = 0; ///< 0: all
   int deterministic = -1;     ///< -1: as configured, 0/1: override
   std::string map_path;       ///< a saved map to start in (empty: a new map)

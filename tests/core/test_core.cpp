@@ -3,7 +3,9 @@
 #include <cmath>
 #include <cstring>
 #include <memory>
+#include <string>
 #include <thread>
+#include <vector>
 #include <fstream>
 
 #include "core/association.h"
@@ -11,6 +13,7 @@
 #include "core/camera.h"
 #include "core/errors.h"
 #include "core/json_writer.h"
+#include "core/dynamic_mode.h"
 #include "core/run_layout.h"
 #include "core/stats.h"
 #include "core/timing.h"
@@ -199,4 +202,30 @@ TEST(RunLayout, FileNamesOfARunFolder) {
   EXPECT_EQ(run.savedMap(), "out/run/map.dsm");
   EXPECT_EQ(run.dynamicMasksDir(), "out/run/dynamic_masks");
   EXPECT_EQ(run.dynamicMask(1305031229.528748), "out/run/dynamic_masks/1305031229.528748.png");
+}
+
+// The names `dynslam run --mode` and `bench --modes` take and report.json
+// and run_info.yaml hold (docs/benchmarks.md tables use them too).
+TEST(DynamicMode, NamesRoundTripAndUnknownNamesAreRejected) {
+  EXPECT_EQ(dynamicModeNames(), (std::vector<std::string>{"off", "detect", "flow", "detect+flow"}));
+  EXPECT_EQ(parseDynamicMode("off"), DynamicMode::kOff);
+  EXPECT_EQ(parseDynamicMode("detect"), DynamicMode::kDetect);
+  EXPECT_EQ(parseDynamicMode("flow"), DynamicMode::kFlow);
+  EXPECT_EQ(parseDynamicMode("detect+flow"), DynamicMode::kDetectAndFlow);
+  EXPECT_STREQ(dynamicModeName(DynamicMode::kDetectAndFlow), "detect+flow");
+  EXPECT_FALSE(parseDynamicMode("Off"));
+  EXPECT_FALSE(parseDynamicMode("flow+detect"));
+  EXPECT_FALSE(parseDynamicMode(""));
+  EXPECT_EQ(dynamicModeChoices(), "off, detect, flow or detect+flow");
+}
+
+TEST(DynamicMode, WhichCuesEachModeUses) {
+  EXPECT_FALSE(usesDetector(DynamicMode::kOff));
+  EXPECT_FALSE(usesFlow(DynamicMode::kOff));
+  EXPECT_TRUE(usesDetector(DynamicMode::kDetect));
+  EXPECT_FALSE(usesFlow(DynamicMode::kDetect));
+  EXPECT_FALSE(usesDetector(DynamicMode::kFlow));
+  EXPECT_TRUE(usesFlow(DynamicMode::kFlow));
+  EXPECT_TRUE(usesDetector(DynamicMode::kDetectAndFlow));
+  EXPECT_TRUE(usesFlow(DynamicMode::kDetectAndFlow));
 }
