@@ -29,7 +29,7 @@
 #include "core/data_paths.h"
 #include "core/stats.h"
 #include "dynamic/depth_masks.h"
-#include "dynamic/mask_scoring.h"
+#include "eval/mask_scoring.h"
 #include "dynamic/motion_check.h"
 #include "rawlog/tum_folder_source.h"
 #include "dynamic/yolo_detector.h"

@@ -1,14 +1,11 @@
 #include "system/run_pipeline.h"
 
 #include <algorithm>
-#include <array>
 #include <cmath>
-#include <cstdio>
 #include <filesystem>
 #include <iomanip>
+#include <optional>
 #include <sstream>
-
-#include <opencv2/imgcodecs.hpp>
 
 #include "core/atomic_file.h"
 #include "core/errors.h"
@@ -20,9 +17,10 @@
 #include "core/progress.h"
 #include "core/run_layout.h"
 #include "core/timing.h"
-#include "dynamic/mask_scoring.h"
+#include "eval/keypoint_truth_scorer.h"
 #include "rawlog/sequence_source.h"
 #include "system/frame_prefetcher.h"
+#include "system/run_recorder.h"
 #include "system/slam_system.h"
 
 namespace dynslam {
@@ -106,21 +104,12 @@ RunSummary runSlam(const RunOptions& opt) {
     filter = std::make_unique<DynamicFeatureFilter>(dp, source->camera());
     slam.setPreprocessor(filter.get());
   }
-  std::vector<std::pair<double, cv::Mat>> keyframe_masks;  // written with the results
+  RunRecorder record;  // written with the results
   // Composite sequences (make_dynamic_sequence.py) carry the true moving
   // pixels in INPUT/masks/<rgb name>.png: score the flags against them.
-  const std::string masks_dir =
-      isDirectory(opt.input + "/masks") ? opt.input + "/masks" : std::string();
-  MaskScore mask_total;
-  MaskScore mask_before_tracking;  // the flags tracking used (before frameTracked's revision)
-  std::vector<MaskScore> mask_frames;
-  std::size_t flagged = 0, keypoints = 0;
+  std::optional<KeypointTruthScorer> truth = KeypointTruthScorer::forSequence(opt.input);
   FramePrefetcher frames(*source, n, static_cast<std::size_t>(std::max(0, cfg.system.prefetch_frames)));
   ProgressLine progress("frame", n);
-  std::vector<double> read_ms;
-  std::vector<std::array<double, 3>> frame_times;  // timestamp, track, frame_total
-  std::size_t tracked = 0, lost = 0;
-  long first_lost = -1;
   const auto t0 = SteadyClock::now();
   int interrupted_by = 0;
   for (std::size_t i = 0; i < n; ++i) {
@@ -129,19 +118,16 @@ RunSummary runSlam(const RunOptions& opt) {
       n = i;
       break;
     }
-    double load = 0;
-    const RGBDFrame frame = frames.next(&load);
-    read_ms.push_back(load);
+    FrameRecord rec;
+    const RGBDFrame frame = frames.next(&rec.read_ms);
     const FrameOutcome out = slam.process(frame);
-    frame_times.push_back({frame.timestamp, latestStageMs(slam.times(), "track", i),
-                           latestStageMs(slam.times(), "frame_total", i)});
-    if (!masks_dir.empty()) {
-      const std::string mask_path = masks_dir + "/" +
-          std::filesystem::path(frame.rgb_source).stem().string() + ".png";
-      if (!fileExists(mask_path)) throw InputError(mask_path, "dynamic-pixel mask missing");
-      const cv::Mat gt = cv::imread(mask_path, cv::IMREAD_UNCHANGED);
-      if (gt.type() != CV_8UC1 || gt.size() != frame.rgb.size())
-        throw InputError(mask_path, "mask must be 8-bit single channel, the size of the RGB image");
+    rec.timestamp = frame.timestamp;
+    rec.track_ms = latestStageMs(slam.times(), "track", i);
+    rec.frame_total_ms = latestStageMs(slam.times(), "frame_total", i);
+    rec.has_pose = out.track.has_pose;
+    rec.lost = out.track.state == TrackingState::kLost;
+    record.addFrame(rec);
+    if (truth) {
       std::vector<cv::Point2f> pts;
       for (const auto& k : out.features->keys) pts.push_back(k.pt);
       // Person boxes the filter used in this frame: those on no composite
@@ -150,24 +136,15 @@ RunSummary runSlam(const RunOptions& opt) {
       if (filter)
         for (const Detection& d : filter->lastBoxes())
           if (d.dynamic_class) person_boxes.push_back(d.box);
-      mask_frames.push_back(scoreKeypoints(pts, out.features->dynamic, gt, 3, &person_boxes));
-      mask_total += mask_frames.back();
-      mask_before_tracking +=
-          out.dynamic_before_tracking.empty()
-              ? mask_frames.back()
-              : scoreKeypoints(pts, out.dynamic_before_tracking, gt, 3, &person_boxes);
+      truth->addFrame(frame.rgb_source, frame.rgb.size(), pts, out.features->dynamic,
+                      out.dynamic_before_tracking, person_boxes);
     }
     if (filter) {
+      std::size_t flagged = 0;
       for (uint8_t d : out.features->dynamic) flagged += d;
-      keypoints += out.features->size();
+      record.addDynamicFlags(flagged, out.features->size());
       if (out.track.new_keyframe && cv::countNonZero(filter->lastMask()) > 0)
-        keyframe_masks.emplace_back(frame.timestamp, filter->lastMask().clone());
-    }
-    if (out.track.has_pose) {
-      ++tracked;
-    } else if (out.track.state == TrackingState::kLost) {
-      ++lost;
-      if (first_lost < 0) first_lost = static_cast<long>(i);
+        record.addKeyFrameMask(frame.timestamp, filter->lastMask());
     }
     progress.update(i + 1, "kf " + std::to_string(slam.map().keyFrameCount()));
   }
@@ -177,7 +154,7 @@ RunSummary runSlam(const RunOptions& opt) {
 
   RunSummary sum;
   sum.frames = n;
-  sum.tracked = tracked;
+  sum.tracked = record.tracked();
   sum.keyframes = slam.map().keyFrameCount();
   sum.map_points = slam.map().mapPointCount();
   sum.wall_s = wall;
@@ -193,25 +170,8 @@ RunSummary runSlam(const RunOptions& opt) {
   writeTumTrajectory(layout.trajectory(), slam.frameTrajectory(), header);
   writeTumTrajectory(layout.keyFrames(), slam.keyFrameTrajectory(), header + " (keyframes)");
   writeMapPoints(layout.mapPoints(), slam.map());
-  writeFileAtomically(layout.frameTimes(), [&](std::ostream& os) {
-    os << "# timestamp track_ms frame_total_ms (one line per frame, read by `dynslam bench`)\n";
-    char line[96];
-    for (const auto& [t, track, total] : frame_times) {
-      std::snprintf(line, sizeof line, "%.6f %.4f %.4f\n", t, track, total);
-      os << line;
-    }
-  });
-  if (!keyframe_masks.empty()) {
-    // Per-keyframe dynamic pixels, so `dynslam export` leaves movers out.
-    makeDirectories(layout.dynamicMasksDir());
-    for (const auto& [t, mask] : keyframe_masks) {
-      std::vector<uint8_t> png;
-      cv::imencode(".png", mask, png);
-      writeFileAtomically(layout.dynamicMask(t), [&](std::ostream& os) {
-        os.write(reinterpret_cast<const char*>(png.data()), static_cast<std::streamsize>(png.size()));
-      }, true);
-    }
-  }
+  record.writeFrameTimes(layout.frameTimes());
+  record.writeKeyFrameMasks(layout);
   writeFileAtomically(layout.configUsed(), [&](std::ostream& os) { os << config_used; });
   writeFileAtomically(layout.runInfo(), [&](std::ostream& os) {
     os << "# Inputs of this run (read by `dynslam export`).\n"
@@ -239,10 +199,10 @@ RunSummary runSlam(const RunOptions& opt) {
       .value("deterministic", cfg.system.deterministic)
       .value("interrupted", interrupted_by != 0)
       .value("frames", n)
-      .value("tracked_frames", tracked)
-      .value("lost_frames", lost)
-      .value("first_lost_frame", static_cast<int64_t>(first_lost))
-      .value("tracked_fraction", n ? double(tracked) / n : 0.0)
+      .value("tracked_frames", record.tracked())
+      .value("lost_frames", record.lost())
+      .value("first_lost_frame", static_cast<int64_t>(record.firstLost()))
+      .value("tracked_fraction", n ? double(record.tracked()) / n : 0.0)
       .value("keyframes", sum.keyframes)
       .value("map_points", sum.map_points)
       .value("wall_time_s", wall)
@@ -272,56 +232,18 @@ RunSummary runSlam(const RunOptions& opt) {
   w.endObject().endObject();
   if (filter) {
     w.beginObject("dynamic")
-        .value("flagged_keypoints", flagged)
-        .value("flagged_fraction", keypoints ? double(flagged) / keypoints : 0.0)
+        .value("flagged_keypoints", record.flaggedKeypoints())
+        .value("flagged_fraction", record.flaggedFraction())
         .value("detector_runs", filter->detectorRuns())
         .value("judged_frames", filter->judgedFrames())
         .value("rejected_judgements", filter->rejectedJudgements())
         .value("unjudged_keypoints", filter->unjudgedKeypointCount())
-        .value("keyframe_masks", keyframe_masks.size())
+        .value("keyframe_masks", record.keyFrameMasks())
         .endObject();
   }
-  if (!masks_dir.empty()) {
-    // Keypoints at least 3 px inside a walker / outside every person.
-    w.beginObject("mask_scores")
-        .value("masks", masks_dir)
-        .value("frames_scored", mask_frames.size())
-        .value("walker_points", mask_total.walker_points)
-        .value("walker_flagged", mask_total.walker_flagged)
-        .value("recall", mask_total.recall())
-        .value("static_points", mask_total.static_points)
-        .value("static_flagged", mask_total.static_flagged)
-        .value("false_rejection_rate", mask_total.falseRejectionRate())
-        // Without the static points inside detected person boxes that overlap
-        // no composite person (the real seated person, absent from the masks).
-        .value("static_points_in_unmasked_person_boxes", mask_total.static_in_unmasked_box)
-        .value("static_flagged_in_unmasked_person_boxes", mask_total.static_in_unmasked_box_flagged)
-        .value("false_rejection_rate_outside_unmasked_person_boxes",
-               mask_total.falseRejectionRateOutsideUnmaskedBoxes())
-        .value("standing_points", mask_total.standing_points)
-        .value("standing_flagged", mask_total.standing_flagged)
-        .value("standing_rejection_rate", mask_total.standingRejectionRate());
-    // The scores above are of the final flags (what mapping uses); tracking
-    // used these, before the frames the tracker's pose revised.
-    w.beginObject("before_tracking")
-        .value("recall", mask_before_tracking.recall())
-        .value("false_rejection_rate", mask_before_tracking.falseRejectionRate())
-        .value("false_rejection_rate_outside_unmasked_person_boxes",
-               mask_before_tracking.falseRejectionRateOutsideUnmaskedBoxes())
-        .endObject();
-    w.beginArray("per_frame_walker_points_flagged_static_points_flagged");
-    for (const MaskScore& m : mask_frames) {
-      w.beginArray()
-          .element(m.walker_points)
-          .element(m.walker_flagged)
-          .element(m.static_points)
-          .element(m.static_flagged)
-          .endArray();
-    }
-    w.endArray().endObject();
-  }
+  if (truth) truth->writeJson(w);
   w.beginObject("timing_ms");
-  writeStats(w, "read_frame", read_ms);
+  writeStats(w, "read_frame", record.readMs());
   for (const auto& stage : slam.times().stages()) writeStats(w, stage, slam.times().samples(stage));
   w.endObject();
   const LocalMapper::Stats ms = slam.mapperStats();
