@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
 #include <cstring>
 #include <memory>
@@ -169,6 +170,25 @@ TEST(Timing, MsSinceMeasuresAKnownSleep) {
   EXPECT_GE(ms, 50.0);
   EXPECT_LT(ms, 5000.0);
   EXPECT_NEAR(secondsSince(t0), ms / 1000.0, 0.5);
+}
+
+// Known intervals, no clock involved: the stage times SlamSystem records.
+TEST(Timing, MsBetweenKnownTimePoints) {
+  const SteadyClock::time_point a{};
+  EXPECT_DOUBLE_EQ(msBetween(a, a + std::chrono::microseconds(1500)), 1.5);
+  EXPECT_DOUBLE_EQ(msBetween(a + std::chrono::seconds(2), a), -2000.0);
+  EXPECT_DOUBLE_EQ(msBetween(a, a), 0.0);
+}
+
+// Busy work costs CPU time, counted in both units alike.
+TEST(Timing, ProcessCpuTimeGrowsWithWork) {
+  const double s0 = processCpuSeconds(), ms0 = processCpuMs();
+  volatile double x = 0;
+  for (int i = 0; i < 20000000; ++i) x = x + 1e-9 * i;
+  const double s1 = processCpuSeconds(), ms1 = processCpuMs();
+  EXPECT_GT(s1, s0);
+  EXPECT_NEAR(ms0, 1e3 * s0, 1.0);
+  EXPECT_NEAR(ms1, 1e3 * s1, 1.0);
 }
 
 TEST(Timing, PeakRssGrowsByTouchedMemory) {
