@@ -10,7 +10,6 @@
 #include "core/atomic_file.h"
 #include "core/errors.h"
 #include "core/interrupt.h"
-#include "core/json_writer.h"
 #include "core/stats.h"
 #include "core/staged_folder.h"
 #include "core/yaml_writer.h"
@@ -21,22 +20,12 @@
 #include "rawlog/sequence_source.h"
 #include "system/frame_prefetcher.h"
 #include "system/run_recorder.h"
+#include "system/run_report.h"
 #include "system/slam_system.h"
 
 namespace dynslam {
 
 namespace {
-
-void writeStats(JsonWriter& w, const std::string& key, const std::vector<double>& v) {
-  const SummaryStats s = summarize(v);
-  w.beginObject(key)
-      .value("count", s.count)
-      .value("mean", s.mean)
-      .value("median", s.median)
-      .value("p95", s.p95)
-      .value("max", s.max)
-      .endObject();
-}
 
 void writeMapPoints(const std::string& path, const Map& map) {
   writeFileAtomically(path, [&](std::ostream& os) {
@@ -85,15 +74,14 @@ RunSummary runSlam(const RunOptions& opt) {
   // modes extract more so that tracking keeps enough static ones.
   if (opt.mode != DynamicMode::kOff && cfg.dynamic.orb_features > 0) cfg.orb.n_features = cfg.dynamic.orb_features;
   SlamSystem slam(cfg, source->camera());
-  mapio::LoadedMap loaded;
-  double map_load_s = 0, map_load_cpu_s = 0, rss_after_load = 0;
+  LoadedMapReport loaded;
   if (!opt.map_path.empty()) {
     const auto tl = SteadyClock::now();
     const double cpu0 = processCpuSeconds();
-    loaded = slam.loadMap(opt.map_path, opt.localize);
-    map_load_s = secondsSince(tl);
-    map_load_cpu_s = processCpuSeconds() - cpu0;
-    rss_after_load = peakRssMb();
+    loaded.file = slam.loadMap(opt.map_path, opt.localize);
+    loaded.load_s = secondsSince(tl);
+    loaded.load_cpu_s = processCpuSeconds() - cpu0;
+    loaded.peak_rss_mb_after_load = peakRssMb();
   }
   std::unique_ptr<DynamicFeatureFilter> filter;
   if (opt.mode != DynamicMode::kOff) {
@@ -165,8 +153,8 @@ RunSummary runSlam(const RunOptions& opt) {
   const std::string header = "dynslam " DYNSLAM_VERSION " run of " + opt.input;
   if (opt.save_map) slam.saveMap(layout.savedMap());
   // Localisation must leave the map as it was read: checked, not assumed.
-  const bool map_unchanged =
-      opt.localize && mapio::crc32Of(slam.encodeMap(), mapio::kMapHeaderBytes) == loaded.payload_crc;
+  loaded.unchanged =
+      opt.localize && mapio::crc32Of(slam.encodeMap(), mapio::kMapHeaderBytes) == loaded.file.payload_crc;
   writeTumTrajectory(layout.trajectory(), slam.frameTrajectory(), header);
   writeTumTrajectory(layout.keyFrames(), slam.keyFrameTrajectory(), header + " (keyframes)");
   writeMapPoints(layout.mapPoints(), slam.map());
@@ -189,106 +177,11 @@ RunSummary runSlam(const RunOptions& opt) {
        << "frames: " << n << "\n";
   });
 
-  JsonWriter w;
-  w.beginObject()
-      .value("dynslam_version", DYNSLAM_VERSION)
-      .value("input", opt.input)
-      .value("camera", source->camera().name)
-      .value("config", config_path)
-      .value("mode", dynamicModeName(opt.mode))
-      .value("deterministic", cfg.system.deterministic)
-      .value("interrupted", interrupted_by != 0)
-      .value("frames", n)
-      .value("tracked_frames", record.tracked())
-      .value("lost_frames", record.lost())
-      .value("first_lost_frame", static_cast<int64_t>(record.firstLost()))
-      .value("tracked_fraction", n ? double(record.tracked()) / n : 0.0)
-      .value("keyframes", sum.keyframes)
-      .value("map_points", sum.map_points)
-      .value("wall_time_s", wall)
-      .value("fps", sum.fps)
-      .value("peak_rss_mb", peakRssMb());
-  if (!opt.map_path.empty()) {
-    w.beginObject("loaded_map")
-        .value("path", opt.map_path)
-        .value("localize", opt.localize)
-        .value("file_bytes", loaded.file_bytes)
-        .value("keyframes", loaded.keyframes)
-        .value("map_points", loaded.map_points)
-        .value("load_s", map_load_s)
-        .value("load_cpu_s", map_load_cpu_s)
-        .value("peak_rss_mb_after_load", rss_after_load);
-    if (opt.localize) w.value("unchanged", map_unchanged);
-    w.endObject();
-  }
-  const SourceNotes notes = source->notes();
-  w.beginObject("input_source")
-      .value("sensor", notes.sensor)
-      .value("depth_registered", notes.depth_registered)
-      .value("depth_registration", notes.depth_registration)
-      .value("depth_units", notes.depth_units);
-  w.beginObject("skipped_observations");
-  for (const auto& [kind, count] : notes.skipped_observations) w.value(kind, count);
-  w.endObject().endObject();
-  if (filter) {
-    w.beginObject("dynamic")
-        .value("flagged_keypoints", record.flaggedKeypoints())
-        .value("flagged_fraction", record.flaggedFraction())
-        .value("detector_runs", filter->detectorRuns())
-        .value("judged_frames", filter->judgedFrames())
-        .value("rejected_judgements", filter->rejectedJudgements())
-        .value("unjudged_keypoints", filter->unjudgedKeypointCount())
-        .value("keyframe_masks", record.keyFrameMasks())
-        .endObject();
-  }
-  if (truth) truth->writeJson(w);
-  w.beginObject("timing_ms");
-  writeStats(w, "read_frame", record.readMs());
-  for (const auto& stage : slam.times().stages()) writeStats(w, stage, slam.times().samples(stage));
-  w.endObject();
-  const LocalMapper::Stats ms = slam.mapperStats();
-  w.beginObject("local_mapping")
-      .value("keyframes_processed", ms.keyframes_processed)
-      .value("culled_keyframes", ms.culled_keyframes)
-      .value("triangulated_points", ms.new_points)
-      .value("bundle_adjustments", ms.ba_runs);
-  writeStats(w, "ba_ms", ms.ba_ms);
-  writeStats(w, "keyframe_ms", ms.step_ms);
-  w.endObject();
-  w.value("map_points_culled_as_dynamic", slam.culledDynamicPoints());
-  w.value("relocalisation_count", slam.relocalisations().size());
-  w.beginArray("relocalisations");
-  for (const auto& r : slam.relocalisations())
-    w.beginObject().value("frame", r.frame_index).value("keyframe", static_cast<int64_t>(r.keyframe_id)).endObject();
-  w.endArray();
-  const loop::LoopClosingStats ls = slam.loopStats();
-  w.beginObject("loop_closing")
-      .value("keyframes_indexed", ls.keyframes_indexed)
-      .value("keyframes_checked", ls.keyframes_checked)
-      .value("candidates", ls.candidates)
-      .value("verifications", ls.verifications)
-      .value("loops_closed", ls.loops_closed)
-      .value("relocalisation_queries", ls.relocalisation_queries);
-  w.beginArray("loops");
-  for (const auto& [cur, lp] : ls.loops)
-    w.beginObject().value("keyframe", static_cast<int64_t>(cur)).value("loop_keyframe", static_cast<int64_t>(lp)).endObject();
-  w.endArray();
-  writeStats(w, "detect_ms", ls.detect_ms);
-  writeStats(w, "correct_ms", ls.correct_ms);
-  writeStats(w, "global_ba_ms", ls.global_ba_ms);
-  w.endObject();
-  const GlobalBAResult& gba = slam.finalBundleAdjustment();
-  w.beginObject("final_global_ba")
-      .value("keyframes", gba.keyframes)
-      .value("points", gba.points)
-      .value("observations", gba.observations)
-      .value("iterations", gba.ba.iterations)
-      .value("initial_cost", gba.ba.initial_cost)
-      .value("final_cost", gba.ba.final_cost)
-      .value("ms", gba.ms)
-      .endObject();
-  w.endObject();
-  writeFileAtomically(layout.report(), [&](std::ostream& os) { os << w.str(); });
+  const std::string report = runReportJson({opt, config_path, source->camera().name,
+                                            cfg.system.deterministic, sum, record, slam,
+                                            source->notes(), filter.get(), truth ? &*truth : nullptr,
+                                            opt.map_path.empty() ? nullptr : &loaded});
+  writeFileAtomically(layout.report(), [&](std::ostream& os) { os << report; });
   staged.commit();
   return sum;
 }
