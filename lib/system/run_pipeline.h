@@ -1,7 +1,11 @@
 #pragma once
 // `dynslam run`: plays a sequence through the SLAM system and writes the run
 // folder. All files are written at the end, each atomically, so a failed run
-// leaves no partial results that could be mistaken for real ones.
+// leaves no partial results that could be mistaken for real ones. runSlam
+// only plays the frames; the owners of what it writes are RunRecorder
+// (per-frame and keyframe outputs), KeypointTruthScorer (eval/, ground-truth
+// mask scores), runReportJson (report.json) and RunLayout (core/run_layout.h,
+// the file names below, shared with `dynslam export` and `dynslam bench`).
 //
 // Run folder layout (read by `dynslam export` and the benchmarks):
 //   trajectory.txt   every tracked frame, TUM format, camera-to-world

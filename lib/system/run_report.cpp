@@ -5,6 +5,7 @@
 
 #include "core/json_writer.h"
 #include "core/stats.h"
+#include "core/stats_json.h"
 #include "core/timing.h"
 
 namespace dynslam {
@@ -13,13 +14,7 @@ namespace {
 
 void writeStats(JsonWriter& w, const std::string& key, const std::vector<double>& v) {
   const SummaryStats s = summarize(v);
-  w.beginObject(key)
-      .value("count", s.count)
-      .value("mean", s.mean)
-      .value("median", s.median)
-      .value("p95", s.p95)
-      .value("max", s.max)
-      .endObject();
+  writeSummaryStatsJson(w, key, s, "count", s.count);
 }
 
 }  // namespace
