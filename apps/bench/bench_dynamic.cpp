@@ -25,11 +25,12 @@
 
 #include <time.h>
 
+#include "core/timing.h"
 #include "core/camera.h"
 #include "core/data_paths.h"
 #include "core/stats.h"
 #include "dynamic/depth_masks.h"
-#include "dynamic/mask_scoring.h"
+#include "eval/mask_scoring.h"
 #include "dynamic/motion_check.h"
 #include "rawlog/tum_folder_source.h"
 #include "dynamic/yolo_detector.h"
@@ -76,14 +77,6 @@ std::vector<cv::Point2f> gridFast(const cv::Mat& gray, int n) {
       for (const auto& k : kps) pts.emplace_back(k.pt.x + cell.x, k.pt.y + cell.y);
     }
   return pts;
-}
-
-// CPU time of the whole process (all threads), ms: on a shared machine the
-// wall clock also counts time spent waiting for a core.
-double cpuMs() {
-  timespec ts;
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-  return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
 }
 
 std::string fmt(double v, int prec = 2) {
@@ -160,9 +153,9 @@ int main(int argc, char** argv) {
       det.detect(frame0);  // warm-up
       for (int r = 0; r < runs; ++r) {
         const int64 t0 = cv::getTickCount();
-        const double c0 = cpuMs();
+        const double c0 = dynslam::processCpuMs();
         n = det.detect(frame0).size();
-        cpu.push_back(cpuMs() - c0);
+        cpu.push_back(dynslam::processCpuMs() - c0);
         total.push_back(double(cv::getTickCount() - t0) * 1000 / cv::getTickFrequency());
         fwd.push_back(det.lastForwardMs());
       }
@@ -188,13 +181,13 @@ int main(int argc, char** argv) {
       cv::Mat gray;
       cv::cvtColor(rgb, gray, cv::COLOR_BGR2GRAY);
       int64 t0 = cv::getTickCount();
-      const double c0 = cpuMs();
+      const double c0 = dynslam::processCpuMs();
       MotionFrame cur = check.makeFrame(gray, depth);
       const double pyr = double(cv::getTickCount() - t0) * 1000 / cv::getTickFrequency();
       if (i > 0) {
         t0 = cv::getTickCount();
         const MotionResult r = check.check(prev, cur, pts, cam, {});
-        t_cpu.push_back(cpuMs() - c0);
+        t_cpu.push_back(dynslam::processCpuMs() - c0);
         t_frame.push_back(double(cv::getTickCount() - t0) * 1000 / cv::getTickFrequency() + pyr);
         t_pyr.push_back(pyr);
         t_track.push_back(r.ms_track);

@@ -10,8 +10,6 @@
 // (back-projection + voxel grid + outlier removal), PLY and GLB writing and
 // 1280x960 renders, and the peak RSS of the process (getrusage), and writes
 // map.ply, map.glb, map_top.png, map_front.png to OUT_DIR.
-#include <sys/resource.h>
-
 #include <opencv2/imgcodecs.hpp>
 
 #include <algorithm>
@@ -26,6 +24,7 @@
 #include <string>
 #include <vector>
 
+#include "core/timing.h"
 #include "core/association.h"
 #include "core/camera.h"
 #include "core/data_paths.h"
@@ -36,24 +35,10 @@
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-double seconds(Clock::time_point a) {
-  return std::chrono::duration<double>(Clock::now() - a).count();
-}
-/// Process CPU time (user + system): meaningful on a machine shared with
-/// other jobs, where wall time is not. All stages here are single-threaded
-/// except rendering (llvmpipe threads).
-double cpuSeconds() {
-  rusage ru{};
-  getrusage(RUSAGE_SELF, &ru);
-  return ru.ru_utime.tv_sec + ru.ru_stime.tv_sec +
-         1e-6 * (ru.ru_utime.tv_usec + ru.ru_stime.tv_usec);
-}
-double peakRssMiB() {
-  rusage ru{};
-  getrusage(RUSAGE_SELF, &ru);
-  return ru.ru_maxrss / 1024.0;  // ru_maxrss is in KiB on Linux
-}
+// Process CPU time (dynslam::processCpuSeconds) is meaningful on a machine
+// shared with other jobs, where wall time is not. All stages here are
+// single-threaded except rendering (llvmpipe threads).
+using Clock = dynslam::SteadyClock;
 
 struct ListEntry {
   double t;
@@ -121,62 +106,62 @@ int main(int argc, char** argv) {
     map.keyframes.push_back({t, kf.pose});
     keyframes.push_back(std::move(kf));
   }
-  const double load_s = seconds(t0);
+  const double load_s = dynslam::secondsSince(t0);
   std::printf("dataset      %s\n", dir.c_str());
   std::printf("keyframes    %zu (every %d-th of %zu RGB-D pairs), loaded in %.2f s\n",
               keyframes.size(), step, pairs.size(), load_s);
-  const double rss_loaded = peakRssMiB();
+  const double rss_loaded = dynslam::peakRssMb();
 
   t0 = Clock::now();
-  double c0 = cpuSeconds();
+  double c0 = dynslam::processCpuSeconds();
   DenseMapBuilder builder(camera);
   for (const auto& kf : keyframes) builder.addKeyframe(kf.frame, kf.pose);
-  const double add_s = seconds(t0), add_cpu = cpuSeconds() - c0;
+  const double add_s = dynslam::secondsSince(t0), add_cpu = dynslam::processCpuSeconds() - c0;
   map.points = builder.build();
-  const double fuse_s = seconds(t0), fuse_cpu = cpuSeconds() - c0;
+  const double fuse_s = dynslam::secondsSince(t0), fuse_cpu = dynslam::processCpuSeconds() - c0;
   const auto& st = builder.stats();
   std::printf("fusion       %.2f s wall, %.2f s CPU (back-project + per-keyframe voxel %.2f s / "
               "%.2f s CPU; final voxel + outliers %.2f s / %.2f s CPU)\n",
               fuse_s, fuse_cpu, add_s, add_cpu, fuse_s - add_s, fuse_cpu - add_cpu);
-  const double rss_fused = peakRssMiB();
+  const double rss_fused = dynslam::peakRssMb();
   std::printf("points       %zu back-projected -> %zu after 1 cm voxel -> %zu after outlier "
               "removal\n",
               st.backprojected_points, st.after_voxel, st.after_outliers);
 
   t0 = Clock::now();
-  c0 = cpuSeconds();
+  c0 = dynslam::processCpuSeconds();
   writeMapFile(out + "/map.ply", map);
-  const double ply_s = seconds(t0), ply_cpu = cpuSeconds() - c0;
-  const double rss_ply = peakRssMiB();
+  const double ply_s = dynslam::secondsSince(t0), ply_cpu = dynslam::processCpuSeconds() - c0;
+  const double rss_ply = dynslam::peakRssMb();
   MapWriteOptions wo;
   wo.camera = camera;
   t0 = Clock::now();
-  c0 = cpuSeconds();
+  c0 = dynslam::processCpuSeconds();
   writeMapFile(out + "/map.glb", map, wo);
-  const double glb_s = seconds(t0), glb_cpu = cpuSeconds() - c0;
+  const double glb_s = dynslam::secondsSince(t0), glb_cpu = dynslam::processCpuSeconds() - c0;
   std::printf("write        PLY %.2f s / %.2f s CPU (%.1f MiB), GLB %.2f s / %.2f s CPU (%.1f MiB)\n",
               ply_s, ply_cpu, std::filesystem::file_size(out + "/map.ply") / 1048576.0, glb_s,
               glb_cpu, std::filesystem::file_size(out + "/map.glb") / 1048576.0);
   std::printf("peak RSS     %.0f MiB after frames loaded, %.0f after fusion, %.0f after PLY, "
               "%.0f after GLB\n",
-              rss_loaded, rss_fused, rss_ply, peakRssMiB());
+              rss_loaded, rss_fused, rss_ply, dynslam::peakRssMb());
   keyframes.clear();
 
   t0 = Clock::now();
   RenderOptions ro;  // 1280 x 960
   ro.up = std::array<double, 3>{0, 0, 1};  // TUM groundtruth (mocap) frame: z up
   MapRenderer renderer(ro);
-  const double ctx_s = seconds(t0);
+  const double ctx_s = dynslam::secondsSince(t0);
   for (const char* view : {"top", "front", "orbit-60"}) {
     t0 = Clock::now();
     const cv::Mat img = renderer.render(map, ViewSpec::parse(view));
-    const double render_s = seconds(t0);
+    const double render_s = dynslam::secondsSince(t0);
     const std::string png = out + "/map_" + std::string(view) + ".png";
     cv::imwrite(png, img);
     std::printf("render       %-8s %dx%d in %.2f s -> %s\n", view, img.cols, img.rows, render_s,
                 png.c_str());
   }
   std::printf("render ctx   %.2f s (OSMesa context + FBO)\n", ctx_s);
-  std::printf("peak RSS     %.0f MiB (end)\n", peakRssMiB());
+  std::printf("peak RSS     %.0f MiB (end)\n", dynslam::peakRssMb());
   return 0;
 }

@@ -15,6 +15,7 @@
 #include <ctime>
 #include <vector>
 
+#include "core/timing.h"
 #include "loop/loop_corrector.h"
 #include "loop/synthetic_loop.h"
 
@@ -22,12 +23,6 @@ using namespace dynslam;
 using namespace dynslam::loop;
 
 namespace {
-
-double cpuMs() {
-  timespec ts{};
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-  return 1e3 * ts.tv_sec + 1e-6 * ts.tv_nsec;
-}
 
 double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
@@ -68,9 +63,9 @@ void bench(int n, int runs) {
       if (a.inliers[i]) lc.matched_points[matches[i].first] = matches[i].second;
 
     LoopCorrector corrector(map);
-    const double c0 = cpuMs();
+    const double c0 = dynslam::processCpuMs();
     st = corrector.correct(lc);
-    cpu.push_back(cpuMs() - c0);
+    cpu.push_back(dynslam::processCpuMs() - c0);
     total.push_back(st.time_ms);
     opt.push_back(st.optimize_ms);
     s.keyframeError(max1, rms1);

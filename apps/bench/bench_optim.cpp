@@ -14,10 +14,11 @@
 #include <ctime>
 #include <vector>
 
+#include "core/timing.h"
 #include "optim/synthetic_scene.h"
 
 using namespace dynslam;
-using Clock = std::chrono::steady_clock;
+using Clock = SteadyClock;
 
 namespace {
 
@@ -30,17 +31,6 @@ Timing summarize(std::vector<double> ms) {
   return {ms[ms.size() / 2], ms.front(), ms.back()};
 }
 
-double msSince(Clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-}
-
-/// CPU time of this process (ms): on a shared, overloaded machine wall time
-/// includes waiting for a core; CPU time is what the solver itself costs.
-double cpuMs() {
-  timespec ts{};
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-  return 1e3 * ts.tv_sec + 1e-6 * ts.tv_nsec;
-}
 
 void benchPose(int runs) {
   const ProjectionModel cam = optim::syntheticCamera();
@@ -52,9 +42,9 @@ void benchPose(int runs) {
   PoseOptimizerResult r;
   for (int i = 0; i < runs; ++i) {
     const auto t0 = Clock::now();
-    const double c0 = cpuMs();
+    const double c0 = dynslam::processCpuMs();
     r = optimizePose(cam, initial, scene.obs);
-    cpu.push_back(cpuMs() - c0);
+    cpu.push_back(dynslam::processCpuMs() - c0);
     ms.push_back(msSince(t0));
   }
   const Timing t = summarize(ms), c = summarize(cpu);
@@ -89,9 +79,9 @@ void benchBA(int runs, double depth_fraction) {
   for (int i = 0; i < runs; ++i) {
     p = scene.initial;  // copy outside the timed region
     const auto t0 = Clock::now();
-    const double c0 = cpuMs();
+    const double c0 = dynslam::processCpuMs();
     r = bundleAdjust(p);
-    cpu.push_back(cpuMs() - c0);
+    cpu.push_back(dynslam::processCpuMs() - c0);
     ms.push_back(msSince(t0));
   }
   const Timing t = summarize(ms), c = summarize(cpu);

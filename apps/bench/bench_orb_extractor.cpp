@@ -25,6 +25,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/timing.h"
 #include "features/orb_extractor.h"
 
 namespace {
@@ -52,12 +53,6 @@ struct Result {
   double median_ms, p95_ms, median_cpu_ms, mean_kps;
 };
 
-double cpuMs() {
-  timespec t{};
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
-  return t.tv_sec * 1e3 + t.tv_nsec * 1e-6;
-}
-
 double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
   return v[v.size() / 2];
@@ -69,12 +64,12 @@ Result timeFrames(const std::vector<cv::Mat>& frames, const std::function<int(co
   std::vector<double> ms, cpu;
   double kps = 0;
   for (const cv::Mat& f : frames) {
-    const double c0 = cpuMs();
-    const auto t0 = std::chrono::steady_clock::now();
+    const double c0 = dynslam::processCpuMs();
+    const auto t0 = dynslam::SteadyClock::now();
     kps += run(f);
-    const auto t1 = std::chrono::steady_clock::now();
-    cpu.push_back(cpuMs() - c0);
-    ms.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
+    const double wall_ms = dynslam::msSince(t0);
+    cpu.push_back(dynslam::processCpuMs() - c0);
+    ms.push_back(wall_ms);
   }
   std::sort(ms.begin(), ms.end());
   const auto at = [&](double q) { return ms[std::min(ms.size() - 1, size_t(q * ms.size()))]; };

@@ -18,6 +18,7 @@
 #include <functional>
 #include <string>
 
+#include "core/timing.h"
 #include "rawlog/rawlog_source.h"
 #include "rawlog/tum_folder_source.h"
 #include "rawlog/tum_to_rawlog.h"
@@ -25,9 +26,9 @@
 namespace {
 
 double seconds(const std::function<void()>& fn) {
-  const auto t0 = std::chrono::steady_clock::now();
+  const auto t0 = dynslam::SteadyClock::now();
   fn();
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return dynslam::secondsSince(t0);
 }
 
 }  // namespace

@@ -23,6 +23,7 @@
 #include <string>
 #include <vector>
 
+#include "core/timing.h"
 #include "place/orb_vocabulary.h"
 #include "place/training_images.h"
 #include "place/vocabulary_trainer.h"
@@ -36,18 +37,11 @@ struct Timing {
   double wall_ms, cpu_ms;
 };
 
-double cpuMs() {
-  timespec t{};
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
-  return t.tv_sec * 1e3 + t.tv_nsec * 1e-6;
-}
-
 Timing timeIt(const std::function<void()>& fn) {
-  const double c0 = cpuMs();
-  const auto t0 = std::chrono::steady_clock::now();
+  const double c0 = dynslam::processCpuMs();
+  const auto t0 = SteadyClock::now();
   fn();
-  return {std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count(),
-          cpuMs() - c0};
+  return {msSince(t0), processCpuMs() - c0};
 }
 
 /// Median wall (and its cpu) over n runs.

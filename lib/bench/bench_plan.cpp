@@ -7,6 +7,7 @@
 
 #include "core/atomic_file.h"
 #include "core/config_reader.h"
+#include "core/dynamic_mode.h"
 #include "core/errors.h"
 #include "core/shell_quote.h"
 #include "core/yaml_writer.h"
@@ -16,18 +17,14 @@ namespace dynslam {
 
 namespace fs = std::filesystem;
 
-const std::vector<std::string>& benchModes() {
-  static const std::vector<std::string> modes = {"off", "detect", "flow", "detect+flow"};
-  return modes;
-}
+const std::vector<std::string>& benchModes() { return dynamicModeNames(); }
 
 void validateBenchOptions(const BenchOptions& o) {
   if (o.sequences.empty()) throw std::invalid_argument("no sequences given");
   if (o.modes.empty()) throw std::invalid_argument("no modes given");
   for (const auto& m : o.modes)
-    if (std::find(benchModes().begin(), benchModes().end(), m) == benchModes().end())
-      throw std::invalid_argument("unknown mode '" + m +
-                                  "': expected off, detect, flow or detect+flow");
+    if (!parseDynamicMode(m))
+      throw std::invalid_argument("unknown mode '" + m + "': expected " + dynamicModeChoices());
   for (std::size_t i = 0; i < o.modes.size(); ++i)
     if (std::find(o.modes.begin(), o.modes.begin() + long(i), o.modes[i]) != o.modes.begin() + long(i))
       throw std::invalid_argument("mode '" + o.modes[i] + "' given twice");

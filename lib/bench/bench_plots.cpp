@@ -3,6 +3,7 @@
 #include <cstdio>
 
 #include "bench/trajectory_plots.h"
+#include "core/run_layout.h"
 #include "core/trajectory.h"
 
 namespace dynslam {
@@ -24,7 +25,7 @@ void writeBenchPlots(BenchReport& report, const std::string& out_dir,
     try {
       if (run->evaluation) {
         const Trajectory gt = readTumTrajectory(seq->groundtruth);
-        const Trajectory est = readTumTrajectory(run->dir + "/trajectory.txt");
+        const Trajectory est = readTumTrajectory(RunLayout{run->dir}.trajectory());
         const TrajectoryPlotData data = TrajectoryPlotData::fromAte(gt, est, run->evaluation->ate);
         char ate[64];
         std::snprintf(ate, sizeof ate, ": ATE RMSE %.4f m", run->evaluation->ate.stats.rmse);

@@ -9,6 +9,7 @@
 #include "core/atomic_file.h"
 #include "core/json_writer.h"
 #include "core/stats.h"
+#include "core/stats_json.h"
 
 namespace dynslam {
 
@@ -57,14 +58,7 @@ void spreadJson(JsonWriter& w, const std::string& key, const Spread& s) {
 }
 
 void timesJson(JsonWriter& w, const std::string& key, const std::vector<double>& v) {
-  const SummaryStats s = finiteStats(v);
-  w.beginObject(key)
-      .value("frames", v.size())
-      .value("mean", s.mean)
-      .value("median", s.median)
-      .value("p95", s.p95)
-      .value("max", s.max)
-      .endObject();
+  writeSummaryStatsJson(w, key, finiteStats(v), "frames", v.size());
 }
 
 }  // namespace

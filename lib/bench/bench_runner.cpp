@@ -11,6 +11,7 @@
 #include "bench/child_process.h"
 #include "core/atomic_file.h"
 #include "core/errors.h"
+#include "core/run_layout.h"
 #include "rawlog/sequence_source.h"
 
 namespace dynslam {
@@ -63,7 +64,8 @@ RunRecord readRunRecord(const BenchPlan& plan, const PlannedRun& run) {
   if (!isDirectory(r.dir))
     throw InputError(r.dir, "run folder missing: the run has not finished or failed (its log: " +
                                 run.logPath() + ")");
-  const std::string report = readTextFile(r.dir + "/report.json");
+  const RunLayout layout{r.dir};
+  const std::string report = readTextFile(layout.report());
   r.wall_s = jsonNumberAt(report, "wall_time_s");
   r.peak_rss_mb = jsonNumberAt(report, "peak_rss_mb");
   r.fps = jsonNumberAt(report, "fps");
@@ -76,11 +78,11 @@ RunRecord readRunRecord(const BenchPlan& plan, const PlannedRun& run) {
   r.map_points = jsonNumberAt(report, "map_points");
   r.relocalisations = jsonNumberAt(report, "relocalisation_count");
   r.loops_closed = jsonNumberAt(report, "loop_closing.loops_closed");
-  r.times = readFrameTimes(r.dir + "/frame_times.txt");
+  r.times = readFrameTimes(layout.frameTimes());
   if (!seq.groundtruth.empty()) {
     // Exactly `dynslam eval GT EST --seq SEQ` (coverage needs a TUM folder),
     // except that a --max-frames run's coverage counts only the frames it was given.
-    const std::string trajectory = r.dir + "/trajectory.txt";
+    const std::string trajectory = layout.trajectory();
     if (!fileExists(trajectory)) throw InputError(trajectory, "missing from the run folder");
     std::vector<double> frames;
     const bool folder = isDirectory(seq.path);

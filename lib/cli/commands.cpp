@@ -5,10 +5,13 @@
 #include <cstdio>
 #include <cstring>
 #include <exception>
+#include <memory>
 #include <string>
+#include <vector>
 
 #include "core/errors.h"
 #include "core/interrupt.h"
+#include "core/log.h"
 #include "core/mrpt_messages.h"
 
 namespace dynslam::cli {
@@ -50,11 +53,32 @@ class ArgumentOutput : public TCLAP::StdOutput {
 }  // namespace
 
 bool parseArguments(TCLAP::CmdLine& cmd, int argc, char** argv, int& exit_code) {
+  // --log-level on every subcommand. TCLAP keeps a pointer to each argument
+  // until the command line is gone, so the argument outlives this call.
+  static std::vector<std::string> level_names = [] {
+    std::vector<std::string> v;
+    for (LogLevel l : {LogLevel::kError, LogLevel::kWarn, LogLevel::kInfo, LogLevel::kDebug,
+                       LogLevel::kTrace})
+      v.emplace_back(logLevelName(l));
+    return v;
+  }();
+  static TCLAP::ValuesConstraint<std::string> level_values(level_names);
+  static std::vector<std::unique_ptr<TCLAP::ValueArg<std::string>>> level_args;
+  level_args.push_back(std::make_unique<TCLAP::ValueArg<std::string>>(
+      "", "log-level",
+      "diagnostics on stderr: error, warn, info (the default), debug (per keyframe: local "
+      "mapping, loop closing, relocalisation; the dynamic filter's stage times) or trace (also "
+      "per frame: tracking, matching, the dynamic filter)",
+      false, logLevelName(LogLevel::kInfo), &level_values));
+  cmd.add(*level_args.back());
   ArgumentOutput output;
   cmd.setOutput(&output);
   const bool ok = cmd.parse(argc, argv);
   cmd.setOutput(nullptr);
-  if (ok) return true;
+  if (ok) {
+    setLogLevel(*parseLogLevel(level_args.back()->getValue()));  // the constraint admitted it
+    return true;
+  }
   exit_code = output.failed ? kUsage : kOk;  // error, or --help / --version done
   return false;
 }

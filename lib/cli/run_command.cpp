@@ -4,6 +4,7 @@
 #include <string>
 
 #include "cli/commands.h"
+#include "core/dynamic_mode.h"
 #include "core/errors.h"
 #include "core/interrupt.h"
 #include "system/run_pipeline.h"
@@ -43,7 +44,7 @@ int runMain(int argc, char** argv) {
       "the rawlog holds several. Other observations (IMU, images, other sensors) are skipped "
       "and counted in report.json",
       false, "", "LABEL", cmd);
-  std::vector<std::string> modes = {"off", "detect", "flow", "detect+flow"};
+  std::vector<std::string> modes = dynamicModeNames();
   TCLAP::ValuesConstraint<std::string> mode_values(modes);
   TCLAP::ValueArg<std::string> mode(
       "", "mode",
@@ -81,7 +82,7 @@ int runMain(int argc, char** argv) {
   o.config_path = config.getValue();
   o.camera_config = camera.getValue();
   o.sensor = sensor.getValue();
-  o.mode = mode.getValue();
+  o.mode = *parseDynamicMode(mode.getValue());  // TCLAP admitted only the names
   o.max_frames = static_cast<std::size_t>(max_frames.getValue());
   if (deterministic.getValue()) o.deterministic = 1;
   if (localize.getValue() && !map.isSet()) throw UsageError("--localize needs --map MAP.dsm");

@@ -1,7 +1,8 @@
 #pragma once
-// Names inside a run folder that more than one stage spells: `dynslam run`
-// writes the keyframes' dynamic masks and `dynslam export` reads them back,
-// so the folder and file-name format live here, once.
+// The names inside a run folder, spelt once: `dynslam run` writes them,
+// `dynslam export` and `dynslam bench` read them back, and a name (or the
+// dynamic masks' file-name format) changed in one place only would leave a
+// reader looking for a file that is no longer written.
 #include <string>
 
 namespace dynslam {
@@ -13,7 +14,32 @@ inline constexpr const char* kDynamicMasksDir = "dynamic_masks";
 /// `dynslam export` (and given back with --config to repeat the run).
 inline constexpr const char* kConfigUsedFile = "config_used.yaml";
 
+inline constexpr const char* kTrajectoryFile = "trajectory.txt";
+inline constexpr const char* kKeyFramesFile = "keyframes.txt";
+inline constexpr const char* kMapPointsFile = "map_points.txt";
+inline constexpr const char* kRunInfoFile = "run_info.yaml";
+inline constexpr const char* kFrameTimesFile = "frame_times.txt";
+inline constexpr const char* kReportFile = "report.json";
+inline constexpr const char* kSavedMapFile = "map.dsm";
+
 /// RUN_DIR/dynamic_masks/<timestamp with 6 decimals>.png
 std::string dynamicMaskPath(const std::string& run_dir, double timestamp);
+
+/// The paths of one run folder.
+struct RunLayout {
+  std::string dir;
+
+  std::string file(const char* name) const { return dir + "/" + name; }
+  std::string trajectory() const { return file(kTrajectoryFile); }
+  std::string keyFrames() const { return file(kKeyFramesFile); }
+  std::string mapPoints() const { return file(kMapPointsFile); }
+  std::string runInfo() const { return file(kRunInfoFile); }
+  std::string frameTimes() const { return file(kFrameTimesFile); }
+  std::string report() const { return file(kReportFile); }
+  std::string configUsed() const { return file(kConfigUsedFile); }
+  std::string savedMap() const { return file(kSavedMapFile); }
+  std::string dynamicMasksDir() const { return file(kDynamicMasksDir); }
+  std::string dynamicMask(double timestamp) const { return dynamicMaskPath(dir, timestamp); }
+};
 
 }  // namespace dynslam

@@ -8,10 +8,12 @@ namespace dynslam {
 
 using SteadyClock = std::chrono::steady_clock;
 
-/// Milliseconds since t0 (steady clock).
-inline double msSince(SteadyClock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(SteadyClock::now() - t0).count();
+/// Milliseconds from a to b (steady clock).
+inline double msBetween(SteadyClock::time_point a, SteadyClock::time_point b) {
+  return std::chrono::duration<double, std::milli>(b - a).count();
 }
+/// Milliseconds since t0 (steady clock).
+inline double msSince(SteadyClock::time_point t0) { return msBetween(t0, SteadyClock::now()); }
 /// Seconds since t0 (steady clock).
 inline double secondsSince(SteadyClock::time_point t0) {
   return std::chrono::duration<double>(SteadyClock::now() - t0).count();
@@ -22,5 +24,7 @@ double peakRssMb();
 /// User + system CPU time of this process so far (seconds, all threads):
 /// on a shared machine wall times mostly measure the other jobs.
 double processCpuSeconds();
+/// The same in milliseconds (the micro-benchmarks' unit).
+inline double processCpuMs() { return 1e3 * processCpuSeconds(); }
 
 }  // namespace dynslam

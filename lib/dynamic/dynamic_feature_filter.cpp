@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <cstdlib>
 
+#include "core/log.h"
 #include "core/timing.h"
 
 namespace dynslam {
@@ -99,15 +100,18 @@ DynamicFeatureFilter::DynamicFeatureFilter(const DynamicFilterParams& params,
 }
 
 DynamicFeatureFilter::~DynamicFeatureFilter() {
-  if (const char* env = std::getenv("DYNSLAM_DEBUG_DYNAMIC"); env && *env && *env != '0') {
-    std::fprintf(stderr, "dynamic filter stage medians (ms) over %zu frames:",
-                 times_.count("total") ? times_.at("total").size() : std::size_t(0));
+  if (logEnabled(LogLevel::kDebug)) {
+    std::string medians;
+    char item[96];
     for (auto [name, v] : times_) {
       if (v.empty()) continue;
       std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-      std::fprintf(stderr, " %s %.2f", name.c_str(), v[v.size() / 2]);
+      std::snprintf(item, sizeof item, " %s %.2f", name.c_str(), v[v.size() / 2]);
+      medians += item;
     }
-    std::fprintf(stderr, "; detector runs %zu\n", detectorRuns());
+    logf(LogLevel::kDebug, "dynamic", "stage medians (ms) over %zu frames:%s; detector runs %zu",
+         times_.count("total") ? times_.at("total").size() : std::size_t(0), medians.c_str(),
+         detectorRuns());
   }
 }
 
@@ -246,8 +250,7 @@ void DynamicFeatureFilter::process(const RGBDFrame&, const cv::Mat&,
   std::fill(dynamic.begin(), dynamic.end(), 0);
   const std::size_t flagged = flagOnMask(keypoints, dynamic);
   if (judge_.frame == frame_) judge_.keypoints = keypoints;
-  if (!debug_dir_.empty())
-    std::fprintf(stderr, "[dynamic] frame %ld: %zu keypoints, %zu pre-flagged, %zu boxes, %zu carried\n",
+  logf(LogLevel::kTrace, "dynamic", "frame %ld: %zu keypoints, %zu pre-flagged, %zu boxes, %zu carried",
                  frame_, keypoints.size(), flagged, boxes_now_.size(), pre_carried_.size());
   // Untracked frames go on from the carried points, one frame older;
   // frameTracked() replaces them with the new judgement's.
@@ -350,8 +353,7 @@ bool DynamicFeatureFilter::judge(const cv::Matx44d& prev_pose_wc, const TrackedP
   if (inliers_flagged > p_.max_map_inliers_flagged) {
     ++rejected_judgements_;
     mask_ = before;
-    if (!debug_dir_.empty())
-      std::fprintf(stderr, "[dynamic] frame %ld: judgement rejected: %.2f of the map inliers flagged\n",
+    logf(LogLevel::kTrace, "dynamic", "frame %ld: judgement rejected: %.2f of the map inliers flagged",
                    frame_, inliers_flagged);
     return false;
   }
@@ -371,8 +373,7 @@ bool DynamicFeatureFilter::judge(const cv::Matx44d& prev_pose_wc, const TrackedP
   mask_ |= before;
   ++judged_frames_;
   writeDebugImage(j.box_mask, ev.mask);
-  if (!debug_dir_.empty())
-    std::fprintf(stderr, "[dynamic] frame %ld: judged under the tracker's motion: %zu flagged, %zu unjudged\n",
+  logf(LogLevel::kTrace, "dynamic", "frame %ld: judged under the tracker's motion: %zu flagged, %zu unjudged",
                  frame_, flagged, unjudged);
   // The next frame goes on from these verdicts.
   selectFlowPoints(j.keypoints, ev.carried, ev.carried_age);

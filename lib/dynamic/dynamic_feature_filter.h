@@ -31,10 +31,11 @@
 //
 // Cost: LK runs on at most max_flow_points keypoints of the previous frame
 // (keypoints carried as dynamic first), at half resolution by default; the
-// box carrying reuses those tracks. Per-stage times: stageTimes(), printed at
-// exit when DYNSLAM_DEBUG_DYNAMIC is set. DYNSLAM_DEBUG_DYNAMIC_DIR=DIR writes
-// each frame's mask parts to DIR/<frame>.png (blue: boxes, green: grown
-// regions, red: all before the margin dilation) and prints one line per frame.
+// box carrying reuses those tracks. Per-stage times: stageTimes(), logged at
+// exit at level debug (core/log.h), one line per frame at level trace.
+// DYNSLAM_DEBUG_DYNAMIC_DIR=DIR writes each frame's mask parts to
+// DIR/<frame>.png (blue: boxes, green: grown regions, red: all before the
+// margin dilation).
 #include <map>
 #include <memory>
 #include <string>

@@ -3,19 +3,12 @@
 #include <opencv2/features2d.hpp>
 
 #include <algorithm>
-#include <cstdio>
-#include <cstdlib>
 
+#include "core/log.h"
 #include "core/timing.h"
 #include "mapping/map_ba_problem.h"
 
 namespace dynslam::loop {
-
-namespace {
-// DYNSLAM_DEBUG_LOOP=1 prints candidates and verifications on stderr.
-const bool kDebug = std::getenv("DYNSLAM_DEBUG_LOOP") != nullptr;
-
-}  // namespace
 
 LoopClosing::LoopClosing(Map& map, LocalMapper& mapper,
                          std::shared_ptr<const OrbVocabulary> vocabulary,
@@ -135,8 +128,7 @@ std::vector<KeyFrame*> LoopClosing::consistentCandidates(KeyFrame* kf, const Bow
     next.emplace_back(std::move(group), count);
   }
   groups_ = std::move(next);
-  if (kDebug)
-    std::fprintf(stderr, "[loop] kf %ld: %zu candidates, %zu consistent\n", kf->id, cands.size(), accepted.size());
+  logf(LogLevel::kDebug, "loop", "kf %ld: %zu candidates, %zu consistent", kf->id, cands.size(), accepted.size());
   return accepted;
 }
 
@@ -196,8 +188,7 @@ bool LoopClosing::verifyAndClose(KeyFrame* kf, KeyFrame* cand) {
     std::lock_guard<std::mutex> lk(stats_mutex_);
     stats_.verifications++;
   }
-  if (kDebug)
-    std::fprintf(stderr, "[loop] kf %ld vs %ld: %zu matches, aligned %d, %d inliers, rms %.2f px\n", kf->id,
+  logf(LogLevel::kDebug, "loop", "kf %ld vs %ld: %zu matches, aligned %d, %d inliers, rms %.2f px", kf->id,
                  cand->id, corr.size(), a.ok ? 1 : 0, a.n_inliers, a.rms_px);
   if (!a.ok || a.n_inliers < p_.min_inliers) return false;
 
@@ -218,8 +209,7 @@ bool LoopClosing::verifyAndClose(KeyFrame* kf, KeyFrame* cand) {
   double gba_ms = -1;
   if (cs.ok && p_.global_ba) gba_ms = globalBundleAdjust(map_, p_.global_ba_params).ms;
   mapper_.resume();
-  if (kDebug)
-    std::fprintf(stderr, "[loop] closed kf %ld -> %ld: ok %d, %d kfs, %d merged, %d fused, %.1f ms, GBA %.0f ms\n",
+  logf(LogLevel::kDebug, "loop", "closed kf %ld -> %ld: ok %d, %d kfs, %d merged, %d fused, %.1f ms, GBA %.0f ms",
                  kf->id, cand->id, cs.ok ? 1 : 0, cs.keyframes, cs.merged, cs.fused, cs.time_ms, gba_ms);
   if (!cs.ok) return false;
   last_loop_kf_ = kf->id;

@@ -23,10 +23,6 @@ namespace dynslam {
 
 namespace fs = std::filesystem;
 
-std::string RunDirectory::maskPath(double timestamp) const {
-  return dynamicMaskPath(dir, timestamp);
-}
-
 RunDirectory readRunDirectory(const std::string& dir) {
   if (!isDirectory(dir)) throw InputError(dir, "run folder not found");
   RunDirectory run;
@@ -60,7 +56,7 @@ RunDirectory readRunDirectory(const std::string& dir) {
   run.camera_config = path("camera_config");
   run.sensor = text("sensor");
   // What the run used, not the file it was read from (which may have changed since).
-  if (const std::string used = dir + "/" + kConfigUsedFile; fileExists(used)) run.config = used;
+  if (const std::string used = run.layout().configUsed(); fileExists(used)) run.config = used;
   run.keyframes = readTumTrajectory(run.keyframesPath());
   if (run.keyframes.empty()) throw InputError(run.keyframesPath(), "no keyframes");
   return run;

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "core/json_writer.h"
+#include "core/run_layout.h"
 #include "core/rgbd_frame.h"
 #include "core/trajectory.h"
 #include "mapexport/dense_map_builder.h"
@@ -34,11 +35,12 @@ struct RunDirectory {
   std::string config;         ///< the run's config_used.yaml; empty when it has none
   Trajectory keyframes;
 
-  std::string keyframesPath() const { return dir + "/keyframes.txt"; }
-  std::string runInfoPath() const { return dir + "/run_info.yaml"; }
-  std::string mapPointsPath() const { return dir + "/map_points.txt"; }
+  RunLayout layout() const { return {dir}; }
+  std::string keyframesPath() const { return layout().keyFrames(); }
+  std::string runInfoPath() const { return layout().runInfo(); }
+  std::string mapPointsPath() const { return layout().mapPoints(); }
   /// dynamic_masks/<timestamp %.6f>.png (may not exist).
-  std::string maskPath(double timestamp) const;
+  std::string maskPath(double timestamp) const { return layout().dynamicMask(timestamp); }
 };
 
 /// Throws InputError naming the missing/bad file (the folder itself,

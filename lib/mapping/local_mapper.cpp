@@ -1,23 +1,16 @@
 #include "mapping/local_mapper.h"
 
+#include "core/log.h"
 #include "core/timing.h"
 #include "mapping/map_ba_problem.h"
 
 #include <Eigen/Dense>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 #include <map>
 #include <memory>
 #include <set>
 
 namespace dynslam {
-
-namespace {
-// DYNSLAM_DEBUG_MAPPING=1 prints one line per fusion and BA step on stderr.
-const bool kDebug = std::getenv("DYNSLAM_DEBUG_MAPPING") != nullptr;
-
-}  // namespace
 
 LocalMapper::LocalMapper(Map& map, const LocalMapperParams& params, bool threaded)
     : map_(map),
@@ -205,8 +198,7 @@ void LocalMapper::fuseWithNeighbours(KeyFrame* kf) {
     }
   }
   const int fused_in = matcher_.fuse(kf, cand);
-  if (kDebug)
-    std::fprintf(stderr, "[map] kf %ld fusion: %zu targets, %zu own points -> %d fused; %zu candidates -> %d fused\n",
+  logf(LogLevel::kDebug, "map", "kf %ld fusion: %zu targets, %zu own points -> %d fused; %zu candidates -> %d fused",
                  kf->id, targets.size(), own.size(), fused_out, cand.size(), fused_in);
   for (MapPoint* mp : kf->points) {
     if (mp && !mp->bad) {
@@ -254,10 +246,10 @@ void LocalMapper::bundleAdjust(KeyFrame* kf) {
   }
   // The solve runs without the map lock so tracking continues meanwhile.
   const BAResult res = dynslam::bundleAdjust(problem->problem(), p_.ba);
-  if (kDebug) {
+  if (logEnabled(LogLevel::kDebug)) {
     std::size_t out = 0;
     for (bool b : res.inlier) out += !b;
-    std::fprintf(stderr, "[map] kf %ld BA: %zu kfs, %zu points, %zu obs, %zu outliers\n", kf->id,
+    logf(LogLevel::kDebug, "map", "kf %ld BA: %zu kfs, %zu points, %zu obs, %zu outliers", kf->id,
                  problem->problem().keyframes.size(), problem->points().size(),
                  problem->problem().observations.size(), out);
   }

@@ -8,6 +8,7 @@
 
 #include <Eigen/Dense>
 
+#include "core/log.h"
 #include "features/orb_extractor.h"
 
 namespace dynslam {
@@ -123,9 +124,7 @@ int FeatureMatcher::searchByProjection(Frame& cur, const std::vector<MapPoint*>&
     cur.points[best_idx] = mp;
     ++n;
   }
-  static const bool debug = std::getenv("DYNSLAM_DEBUG_MATCHING") != nullptr;
-  if (debug)
-    std::fprintf(stderr, "[match] local: %d matched, %d no candidate, %d all taken, %d descriptor too far, %d ratio\n",
+  logf(LogLevel::kTrace, "match", "local: %d matched, %d no candidate, %d all taken, %d descriptor too far, %d ratio",
                  n, no_cand, all_taken, too_far, ratio_fail);
   return n;
 }

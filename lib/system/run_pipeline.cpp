@@ -1,44 +1,31 @@
 #include "system/run_pipeline.h"
 
 #include <algorithm>
-#include <array>
 #include <cmath>
-#include <cstdio>
 #include <filesystem>
 #include <iomanip>
+#include <optional>
 #include <sstream>
-
-#include <opencv2/imgcodecs.hpp>
 
 #include "core/atomic_file.h"
 #include "core/errors.h"
 #include "core/interrupt.h"
-#include "core/json_writer.h"
 #include "core/stats.h"
 #include "core/staged_folder.h"
 #include "core/yaml_writer.h"
 #include "core/progress.h"
 #include "core/run_layout.h"
 #include "core/timing.h"
-#include "dynamic/mask_scoring.h"
+#include "eval/keypoint_truth_scorer.h"
 #include "rawlog/sequence_source.h"
 #include "system/frame_prefetcher.h"
+#include "system/run_recorder.h"
+#include "system/run_report.h"
 #include "system/slam_system.h"
 
 namespace dynslam {
 
 namespace {
-
-void writeStats(JsonWriter& w, const std::string& key, const std::vector<double>& v) {
-  const SummaryStats s = summarize(v);
-  w.beginObject(key)
-      .value("count", s.count)
-      .value("mean", s.mean)
-      .value("median", s.median)
-      .value("p95", s.p95)
-      .value("max", s.max)
-      .endObject();
-}
 
 void writeMapPoints(const std::string& path, const Map& map) {
   writeFileAtomically(path, [&](std::ostream& os) {
@@ -67,8 +54,6 @@ double latestStageMs(const StageTimes& times, const std::string& stage, std::siz
 }  // namespace
 
 RunSummary runSlam(const RunOptions& opt) {
-  if (opt.mode != "off" && opt.mode != "detect" && opt.mode != "flow" && opt.mode != "detect+flow")
-    throw std::runtime_error("--mode " + opt.mode + ": expected off, detect, flow or detect+flow");
   if (opt.localize && opt.map_path.empty())
     throw std::invalid_argument("localisation needs a map (--map MAP.dsm)");
   if (opt.localize && opt.save_map)
@@ -83,46 +68,36 @@ RunSummary runSlam(const RunOptions& opt) {
   if (opt.max_frames > 0) n = std::min(n, opt.max_frames);
   // The run folder is one unit: written beside and moved into place when
   // complete (an earlier run there is replaced whole).
-  StagedFolder staged(opt.out_dir, {"run_info.yaml", "report.json", "trajectory.txt"});
+  StagedFolder staged(opt.out_dir, {kRunInfoFile, kReportFile, kTrajectoryFile});
 
   // A third of the keypoints can land on movers and be dropped: the dynamic
   // modes extract more so that tracking keeps enough static ones.
-  if (opt.mode != "off" && cfg.dynamic.orb_features > 0) cfg.orb.n_features = cfg.dynamic.orb_features;
+  if (opt.mode != DynamicMode::kOff && cfg.dynamic.orb_features > 0) cfg.orb.n_features = cfg.dynamic.orb_features;
   SlamSystem slam(cfg, source->camera());
-  mapio::LoadedMap loaded;
-  double map_load_s = 0, map_load_cpu_s = 0, rss_after_load = 0;
+  LoadedMapReport loaded;
   if (!opt.map_path.empty()) {
     const auto tl = SteadyClock::now();
     const double cpu0 = processCpuSeconds();
-    loaded = slam.loadMap(opt.map_path, opt.localize);
-    map_load_s = secondsSince(tl);
-    map_load_cpu_s = processCpuSeconds() - cpu0;
-    rss_after_load = peakRssMb();
+    loaded.file = slam.loadMap(opt.map_path, opt.localize);
+    loaded.load_s = secondsSince(tl);
+    loaded.load_cpu_s = processCpuSeconds() - cpu0;
+    loaded.peak_rss_mb_after_load = peakRssMb();
   }
   std::unique_ptr<DynamicFeatureFilter> filter;
-  if (opt.mode != "off") {
+  if (opt.mode != DynamicMode::kOff) {
     DynamicFilterParams dp = cfg.dynamic;
-    dp.use_detector = opt.mode != "flow";
-    dp.use_flow = opt.mode != "detect";
+    dp.use_detector = usesDetector(opt.mode);
+    dp.use_flow = usesFlow(opt.mode);
     if (cfg.system.deterministic) dp.async_detector = false;  // reproducible
     filter = std::make_unique<DynamicFeatureFilter>(dp, source->camera());
     slam.setPreprocessor(filter.get());
   }
-  std::vector<std::pair<double, cv::Mat>> keyframe_masks;  // written with the results
+  RunRecorder record;  // written with the results
   // Composite sequences (make_dynamic_sequence.py) carry the true moving
   // pixels in INPUT/masks/<rgb name>.png: score the flags against them.
-  const std::string masks_dir =
-      isDirectory(opt.input + "/masks") ? opt.input + "/masks" : std::string();
-  MaskScore mask_total;
-  MaskScore mask_before_tracking;  // the flags tracking used (before frameTracked's revision)
-  std::vector<MaskScore> mask_frames;
-  std::size_t flagged = 0, keypoints = 0;
+  std::optional<KeypointTruthScorer> truth = KeypointTruthScorer::forSequence(opt.input);
   FramePrefetcher frames(*source, n, static_cast<std::size_t>(std::max(0, cfg.system.prefetch_frames)));
   ProgressLine progress("frame", n);
-  std::vector<double> read_ms;
-  std::vector<std::array<double, 3>> frame_times;  // timestamp, track, frame_total
-  std::size_t tracked = 0, lost = 0;
-  long first_lost = -1;
   const auto t0 = SteadyClock::now();
   int interrupted_by = 0;
   for (std::size_t i = 0; i < n; ++i) {
@@ -131,19 +106,16 @@ RunSummary runSlam(const RunOptions& opt) {
       n = i;
       break;
     }
-    double load = 0;
-    const RGBDFrame frame = frames.next(&load);
-    read_ms.push_back(load);
+    FrameRecord rec;
+    const RGBDFrame frame = frames.next(&rec.read_ms);
     const FrameOutcome out = slam.process(frame);
-    frame_times.push_back({frame.timestamp, latestStageMs(slam.times(), "track", i),
-                           latestStageMs(slam.times(), "frame_total", i)});
-    if (!masks_dir.empty()) {
-      const std::string mask_path = masks_dir + "/" +
-          std::filesystem::path(frame.rgb_source).stem().string() + ".png";
-      if (!fileExists(mask_path)) throw InputError(mask_path, "dynamic-pixel mask missing");
-      const cv::Mat gt = cv::imread(mask_path, cv::IMREAD_UNCHANGED);
-      if (gt.type() != CV_8UC1 || gt.size() != frame.rgb.size())
-        throw InputError(mask_path, "mask must be 8-bit single channel, the size of the RGB image");
+    rec.timestamp = frame.timestamp;
+    rec.track_ms = latestStageMs(slam.times(), "track", i);
+    rec.frame_total_ms = latestStageMs(slam.times(), "frame_total", i);
+    rec.has_pose = out.track.has_pose;
+    rec.lost = out.track.state == TrackingState::kLost;
+    record.addFrame(rec);
+    if (truth) {
       std::vector<cv::Point2f> pts;
       for (const auto& k : out.features->keys) pts.push_back(k.pt);
       // Person boxes the filter used in this frame: those on no composite
@@ -152,24 +124,15 @@ RunSummary runSlam(const RunOptions& opt) {
       if (filter)
         for (const Detection& d : filter->lastBoxes())
           if (d.dynamic_class) person_boxes.push_back(d.box);
-      mask_frames.push_back(scoreKeypoints(pts, out.features->dynamic, gt, 3, &person_boxes));
-      mask_total += mask_frames.back();
-      mask_before_tracking +=
-          out.dynamic_before_tracking.empty()
-              ? mask_frames.back()
-              : scoreKeypoints(pts, out.dynamic_before_tracking, gt, 3, &person_boxes);
+      truth->addFrame(frame.rgb_source, frame.rgb.size(), pts, out.features->dynamic,
+                      out.dynamic_before_tracking, person_boxes);
     }
     if (filter) {
+      std::size_t flagged = 0;
       for (uint8_t d : out.features->dynamic) flagged += d;
-      keypoints += out.features->size();
+      record.addDynamicFlags(flagged, out.features->size());
       if (out.track.new_keyframe && cv::countNonZero(filter->lastMask()) > 0)
-        keyframe_masks.emplace_back(frame.timestamp, filter->lastMask().clone());
-    }
-    if (out.track.has_pose) {
-      ++tracked;
-    } else if (out.track.state == TrackingState::kLost) {
-      ++lost;
-      if (first_lost < 0) first_lost = static_cast<long>(i);
+        record.addKeyFrameMask(frame.timestamp, filter->lastMask());
     }
     progress.update(i + 1, "kf " + std::to_string(slam.map().keyFrameCount()));
   }
@@ -179,43 +142,26 @@ RunSummary runSlam(const RunOptions& opt) {
 
   RunSummary sum;
   sum.frames = n;
-  sum.tracked = tracked;
+  sum.tracked = record.tracked();
   sum.keyframes = slam.map().keyFrameCount();
   sum.map_points = slam.map().mapPointCount();
   sum.wall_s = wall;
   sum.fps = wall > 0 ? n / wall : 0;
   sum.interrupted_by = interrupted_by;
 
-  const std::string dir = staged.path();
+  const RunLayout layout{staged.path()};
   const std::string header = "dynslam " DYNSLAM_VERSION " run of " + opt.input;
-  if (opt.save_map) slam.saveMap(dir + "/map.dsm");
+  if (opt.save_map) slam.saveMap(layout.savedMap());
   // Localisation must leave the map as it was read: checked, not assumed.
-  const bool map_unchanged =
-      opt.localize && mapio::crc32Of(slam.encodeMap(), mapio::kMapHeaderBytes) == loaded.payload_crc;
-  writeTumTrajectory(dir + "/trajectory.txt", slam.frameTrajectory(), header);
-  writeTumTrajectory(dir + "/keyframes.txt", slam.keyFrameTrajectory(), header + " (keyframes)");
-  writeMapPoints(dir + "/map_points.txt", slam.map());
-  writeFileAtomically(dir + "/frame_times.txt", [&](std::ostream& os) {
-    os << "# timestamp track_ms frame_total_ms (one line per frame, read by `dynslam bench`)\n";
-    char line[96];
-    for (const auto& [t, track, total] : frame_times) {
-      std::snprintf(line, sizeof line, "%.6f %.4f %.4f\n", t, track, total);
-      os << line;
-    }
-  });
-  if (!keyframe_masks.empty()) {
-    // Per-keyframe dynamic pixels, so `dynslam export` leaves movers out.
-    makeDirectories(dir + "/" + kDynamicMasksDir);
-    for (const auto& [t, mask] : keyframe_masks) {
-      std::vector<uint8_t> png;
-      cv::imencode(".png", mask, png);
-      writeFileAtomically(dynamicMaskPath(dir, t), [&](std::ostream& os) {
-        os.write(reinterpret_cast<const char*>(png.data()), static_cast<std::streamsize>(png.size()));
-      }, true);
-    }
-  }
-  writeFileAtomically(dir + "/" + kConfigUsedFile, [&](std::ostream& os) { os << config_used; });
-  writeFileAtomically(dir + "/run_info.yaml", [&](std::ostream& os) {
+  loaded.unchanged =
+      opt.localize && mapio::crc32Of(slam.encodeMap(), mapio::kMapHeaderBytes) == loaded.file.payload_crc;
+  writeTumTrajectory(layout.trajectory(), slam.frameTrajectory(), header);
+  writeTumTrajectory(layout.keyFrames(), slam.keyFrameTrajectory(), header + " (keyframes)");
+  writeMapPoints(layout.mapPoints(), slam.map());
+  record.writeFrameTimes(layout.frameTimes());
+  record.writeKeyFrameMasks(layout);
+  writeFileAtomically(layout.configUsed(), [&](std::ostream& os) { os << config_used; });
+  writeFileAtomically(layout.runInfo(), [&](std::ostream& os) {
     os << "# Inputs of this run (read by `dynslam export`).\n"
        << "input: " << yamlQuote(std::filesystem::absolute(opt.input).string()) << "\n"
        << "camera_config: "
@@ -223,7 +169,7 @@ RunSummary runSlam(const RunOptions& opt) {
        << "\n"
        << "sensor: " << yamlQuote(opt.sensor) << "\n"
        << "config: " << yamlQuote(std::filesystem::absolute(config_path).string()) << "\n"
-       << "mode: " << yamlQuote(opt.mode) << "\n"
+       << "mode: " << yamlQuote(dynamicModeName(opt.mode)) << "\n"
        << "map: "
        << yamlQuote(opt.map_path.empty() ? "" : std::filesystem::absolute(opt.map_path).string())
        << "\n"
@@ -231,144 +177,11 @@ RunSummary runSlam(const RunOptions& opt) {
        << "frames: " << n << "\n";
   });
 
-  JsonWriter w;
-  w.beginObject()
-      .value("dynslam_version", DYNSLAM_VERSION)
-      .value("input", opt.input)
-      .value("camera", source->camera().name)
-      .value("config", config_path)
-      .value("mode", opt.mode)
-      .value("deterministic", cfg.system.deterministic)
-      .value("interrupted", interrupted_by != 0)
-      .value("frames", n)
-      .value("tracked_frames", tracked)
-      .value("lost_frames", lost)
-      .value("first_lost_frame", static_cast<int64_t>(first_lost))
-      .value("tracked_fraction", n ? double(tracked) / n : 0.0)
-      .value("keyframes", sum.keyframes)
-      .value("map_points", sum.map_points)
-      .value("wall_time_s", wall)
-      .value("fps", sum.fps)
-      .value("peak_rss_mb", peakRssMb());
-  if (!opt.map_path.empty()) {
-    w.beginObject("loaded_map")
-        .value("path", opt.map_path)
-        .value("localize", opt.localize)
-        .value("file_bytes", loaded.file_bytes)
-        .value("keyframes", loaded.keyframes)
-        .value("map_points", loaded.map_points)
-        .value("load_s", map_load_s)
-        .value("load_cpu_s", map_load_cpu_s)
-        .value("peak_rss_mb_after_load", rss_after_load);
-    if (opt.localize) w.value("unchanged", map_unchanged);
-    w.endObject();
-  }
-  const SourceNotes notes = source->notes();
-  w.beginObject("input_source")
-      .value("sensor", notes.sensor)
-      .value("depth_registered", notes.depth_registered)
-      .value("depth_registration", notes.depth_registration)
-      .value("depth_units", notes.depth_units);
-  w.beginObject("skipped_observations");
-  for (const auto& [kind, count] : notes.skipped_observations) w.value(kind, count);
-  w.endObject().endObject();
-  if (filter) {
-    w.beginObject("dynamic")
-        .value("flagged_keypoints", flagged)
-        .value("flagged_fraction", keypoints ? double(flagged) / keypoints : 0.0)
-        .value("detector_runs", filter->detectorRuns())
-        .value("judged_frames", filter->judgedFrames())
-        .value("rejected_judgements", filter->rejectedJudgements())
-        .value("unjudged_keypoints", filter->unjudgedKeypointCount())
-        .value("keyframe_masks", keyframe_masks.size())
-        .endObject();
-  }
-  if (!masks_dir.empty()) {
-    // Keypoints at least 3 px inside a walker / outside every person.
-    w.beginObject("mask_scores")
-        .value("masks", masks_dir)
-        .value("frames_scored", mask_frames.size())
-        .value("walker_points", mask_total.walker_points)
-        .value("walker_flagged", mask_total.walker_flagged)
-        .value("recall", mask_total.recall())
-        .value("static_points", mask_total.static_points)
-        .value("static_flagged", mask_total.static_flagged)
-        .value("false_rejection_rate", mask_total.falseRejectionRate())
-        // Without the static points inside detected person boxes that overlap
-        // no composite person (the real seated person, absent from the masks).
-        .value("static_points_in_unmasked_person_boxes", mask_total.static_in_unmasked_box)
-        .value("static_flagged_in_unmasked_person_boxes", mask_total.static_in_unmasked_box_flagged)
-        .value("false_rejection_rate_outside_unmasked_person_boxes",
-               mask_total.falseRejectionRateOutsideUnmaskedBoxes())
-        .value("standing_points", mask_total.standing_points)
-        .value("standing_flagged", mask_total.standing_flagged)
-        .value("standing_rejection_rate", mask_total.standingRejectionRate());
-    // The scores above are of the final flags (what mapping uses); tracking
-    // used these, before the frames the tracker's pose revised.
-    w.beginObject("before_tracking")
-        .value("recall", mask_before_tracking.recall())
-        .value("false_rejection_rate", mask_before_tracking.falseRejectionRate())
-        .value("false_rejection_rate_outside_unmasked_person_boxes",
-               mask_before_tracking.falseRejectionRateOutsideUnmaskedBoxes())
-        .endObject();
-    w.beginArray("per_frame_walker_points_flagged_static_points_flagged");
-    for (const MaskScore& m : mask_frames) {
-      w.beginArray()
-          .element(m.walker_points)
-          .element(m.walker_flagged)
-          .element(m.static_points)
-          .element(m.static_flagged)
-          .endArray();
-    }
-    w.endArray().endObject();
-  }
-  w.beginObject("timing_ms");
-  writeStats(w, "read_frame", read_ms);
-  for (const auto& stage : slam.times().stages()) writeStats(w, stage, slam.times().samples(stage));
-  w.endObject();
-  const LocalMapper::Stats ms = slam.mapperStats();
-  w.beginObject("local_mapping")
-      .value("keyframes_processed", ms.keyframes_processed)
-      .value("culled_keyframes", ms.culled_keyframes)
-      .value("triangulated_points", ms.new_points)
-      .value("bundle_adjustments", ms.ba_runs);
-  writeStats(w, "ba_ms", ms.ba_ms);
-  writeStats(w, "keyframe_ms", ms.step_ms);
-  w.endObject();
-  w.value("map_points_culled_as_dynamic", slam.culledDynamicPoints());
-  w.value("relocalisation_count", slam.relocalisations().size());
-  w.beginArray("relocalisations");
-  for (const auto& r : slam.relocalisations())
-    w.beginObject().value("frame", r.frame_index).value("keyframe", static_cast<int64_t>(r.keyframe_id)).endObject();
-  w.endArray();
-  const loop::LoopClosingStats ls = slam.loopStats();
-  w.beginObject("loop_closing")
-      .value("keyframes_indexed", ls.keyframes_indexed)
-      .value("keyframes_checked", ls.keyframes_checked)
-      .value("candidates", ls.candidates)
-      .value("verifications", ls.verifications)
-      .value("loops_closed", ls.loops_closed)
-      .value("relocalisation_queries", ls.relocalisation_queries);
-  w.beginArray("loops");
-  for (const auto& [cur, lp] : ls.loops)
-    w.beginObject().value("keyframe", static_cast<int64_t>(cur)).value("loop_keyframe", static_cast<int64_t>(lp)).endObject();
-  w.endArray();
-  writeStats(w, "detect_ms", ls.detect_ms);
-  writeStats(w, "correct_ms", ls.correct_ms);
-  writeStats(w, "global_ba_ms", ls.global_ba_ms);
-  w.endObject();
-  const GlobalBAResult& gba = slam.finalBundleAdjustment();
-  w.beginObject("final_global_ba")
-      .value("keyframes", gba.keyframes)
-      .value("points", gba.points)
-      .value("observations", gba.observations)
-      .value("iterations", gba.ba.iterations)
-      .value("initial_cost", gba.ba.initial_cost)
-      .value("final_cost", gba.ba.final_cost)
-      .value("ms", gba.ms)
-      .endObject();
-  w.endObject();
-  writeFileAtomically(dir + "/report.json", [&](std::ostream& os) { os << w.str(); });
+  const std::string report = runReportJson({opt, config_path, source->camera().name,
+                                            cfg.system.deterministic, sum, record, slam,
+                                            source->notes(), filter.get(), truth ? &*truth : nullptr,
+                                            opt.map_path.empty() ? nullptr : &loaded});
+  writeFileAtomically(layout.report(), [&](std::ostream& os) { os << report; });
   staged.commit();
   return sum;
 }

@@ -1,7 +1,11 @@
 #pragma once
 // `dynslam run`: plays a sequence through the SLAM system and writes the run
 // folder. All files are written at the end, each atomically, so a failed run
-// leaves no partial results that could be mistaken for real ones.
+// leaves no partial results that could be mistaken for real ones. runSlam
+// only plays the frames; the owners of what it writes are RunRecorder
+// (per-frame and keyframe outputs), KeypointTruthScorer (eval/, ground-truth
+// mask scores), runReportJson (report.json) and RunLayout (core/run_layout.h,
+// the file names below, shared with `dynslam export` and `dynslam bench`).
 //
 // Run folder layout (read by `dynslam export` and the benchmarks):
 //   trajectory.txt   every tracked frame, TUM format, camera-to-world
@@ -18,6 +22,8 @@
 //   map.dsm          with save_map: the final map (docs/map_file.md)
 #include <string>
 
+#include "core/dynamic_mode.h"
+
 namespace dynslam {
 
 struct RunOptions {
@@ -26,7 +32,7 @@ struct RunOptions {
   std::string config_path;    ///< empty: configs/dynslam.yaml
   std::string camera_config;  ///< empty: from the sequence
   std::string sensor;         ///< rawlog 3D sensor label; empty: its only one
-  std::string mode = "detect+flow";  ///< detect+flow | detect | flow | off
+  DynamicMode mode = DynamicMode::kDetectAndFlow;
   std::size_t max_frames = 0; ///< 0: all
   int deterministic = -1;     ///< -1: as configured, 0/1: override
   std::string map_path;       ///< a saved map to start in (empty: a new map)

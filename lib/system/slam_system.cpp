@@ -10,9 +10,6 @@ namespace dynslam {
 
 namespace {
 using Clock = SteadyClock;
-double ms(Clock::time_point a, Clock::time_point b) {
-  return std::chrono::duration<double, std::milli>(b - a).count();
-}
 cv::Matx44d toMatx(const mrpt::poses::CPose3D& pose) {
   const auto H = pose.getHomogeneousMatrixVal<mrpt::math::CMatrixDouble44>();
   cv::Matx44d T;
@@ -123,11 +120,11 @@ FrameOutcome SlamSystem::process(const RGBDFrame& frame) {
   const auto t3 = Clock::now();
   if (cfg_.system.deterministic) mapper_->processPending();
   const auto t4 = Clock::now();
-  times_.add("extract", ms(tp, t1));
-  if (preprocessor_) times_.add("preprocess", ms(t0, tp) + ms(t1, t2));
-  times_.add("track", ms(t2, t3));
-  if (cfg_.system.deterministic) times_.add("mapping_inline", ms(t3, t4));
-  times_.add("frame_total", ms(t0, t4));
+  times_.add("extract", msBetween(tp, t1));
+  if (preprocessor_) times_.add("preprocess", msBetween(t0, tp) + msBetween(t1, t2));
+  times_.add("track", msBetween(t2, t3));
+  if (cfg_.system.deterministic) times_.add("mapping_inline", msBetween(t3, t4));
+  times_.add("frame_total", msBetween(t0, t4));
   return out;
 }
 

@@ -1,5 +1,6 @@
 #include "tracking/tracker.h"
 
+#include "core/log.h"
 #include "features/orb_extractor.h"
 
 #include <mrpt/poses/Lie/SE.h>
@@ -8,17 +9,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 #include <map>
 #include <stdexcept>
 
 namespace dynslam {
-
-namespace {
-// DYNSLAM_DEBUG_TRACKING=1 prints one line per frame on stderr.
-const bool kDebug = std::getenv("DYNSLAM_DEBUG_TRACKING") != nullptr;
-}  // namespace
 
 Tracker::Tracker(Map& map, KeyFrameSink& sink, const TrackerParams& params,
                  const PoseOptimizerParams& optim)
@@ -97,8 +91,7 @@ TrackResult Tracker::finishFrame(bool flags_changed) {
       if (cur_.points[i] && cur_.points[i]->nObs() == 0 && !cur_.points[i]->ref_kf)
         cur_.points[i] = nullptr;
   }
-  if (kDebug)
-    std::fprintf(stderr, "[track] frame %zu state %d inliers %d local_kfs %zu local_pts %zu kf %d map_kfs %zu\n",
+  logf(LogLevel::kTrace, "track", "frame %zu state %d inliers %d local_kfs %zu local_pts %zu kf %d map_kfs %zu",
                  cur_.index, static_cast<int>(state_), inliers_, local_kfs_.size(), local_points_.size(),
                  res.new_keyframe ? 1 : 0, map_.keyFrameCount());
   res.inliers = inliers_;
@@ -236,12 +229,12 @@ bool Tracker::trackWithMotionModel() {
     n = matcher_.searchByProjection(cur_, last_, 2 * p_.motion_search_radius);
   }
   if (n < p_.min_motion_matches) {
-    if (kDebug) std::fprintf(stderr, "[track] motion model: only %d matches\n", n);
+    logf(LogLevel::kTrace, "track", "motion model: only %d matches", n);
     return false;
   }
   optimizeCurrentPose();
   const int good = discardOutliers(cur_);
-  if (kDebug) std::fprintf(stderr, "[track] motion model: %d matches, %d map inliers\n", n, good);
+  logf(LogLevel::kTrace, "track", "motion model: %d matches, %d map inliers", n, good);
   return good >= p_.min_inliers_motion;
 }
 
@@ -249,12 +242,12 @@ bool Tracker::trackReferenceKeyFrame() {
   if (!ref_kf_ || ref_kf_->bad) return false;
   std::fill(cur_.points.begin(), cur_.points.end(), nullptr);
   const int n = matcher_.searchByDescriptor(*ref_kf_, cur_);
-  if (kDebug) std::fprintf(stderr, "[track] reference keyframe %ld: %d matches\n", ref_kf_->id, n);
+  logf(LogLevel::kTrace, "track", "reference keyframe %ld: %d matches", ref_kf_->id, n);
   if (n < 15) return false;
   cur_.setPose(last_.has_pose ? last_.pose.wc() : ref_kf_->pose.wc());
   optimizeCurrentPose();
   const int good = discardOutliers(cur_);
-  if (kDebug) std::fprintf(stderr, "[track] reference keyframe: %d inliers\n", good);
+  logf(LogLevel::kTrace, "track", "reference keyframe: %d inliers", good);
   return good >= p_.min_inliers_motion;
 }
 
@@ -310,7 +303,7 @@ bool Tracker::relocalize() {
       if (!keep[i]) cur_.points[i] = nullptr;
     optimizeCurrentPose();
     const int good = discardOutliers(cur_);
-    if (kDebug) std::fprintf(stderr, "[track] relocalisation on keyframe %ld: %d matches, %zu PnP inliers, %d after optimisation\n", kf->id, n, inliers.size(), good);
+    logf(LogLevel::kDebug, "track", "relocalisation on keyframe %ld: %d matches, %zu PnP inliers, %d after optimisation", kf->id, n, inliers.size(), good);
     if (good >= p_.reloc_min_inliers) {
       ref_kf_ = kf;
       cur_.ref_kf = kf;
@@ -417,7 +410,7 @@ void Tracker::searchLocalPoints() {
   int found = 0;
   if (to_match > 0) found = matcher_.searchByProjection(cur_, local_points_, p_.local_search_radius);
   if (p_.cull_dynamic_hits > 0 && !frozen_) cullPointsOnDynamicKeypoints();
-  if (kDebug) std::fprintf(stderr, "[track] local map: %d in view, %d new matches\n", to_match, found);
+  logf(LogLevel::kTrace, "track", "local map: %d in view, %d new matches", to_match, found);
 }
 
 void Tracker::cullPointsOnDynamicKeypoints() {
@@ -490,8 +483,7 @@ bool Tracker::needNewKeyFrame() const {
   const bool c1b = cur_.id >= last_kf_frame_id_ + p_.min_frames_between_kf && idle;
   const bool c1c = inliers_ < ref_matches * 0.25 || need_close;
   const bool c2 = (inliers_ < ref_matches * ratio || need_close) && inliers_ > 15;
-  if (kDebug)
-    std::fprintf(stderr, "[track] kf decision: inliers %d ref_matches %d close %d/%d c1a %d c1b %d c1c %d c2 %d\n",
+  logf(LogLevel::kTrace, "track", "kf decision: inliers %d ref_matches %d close %d/%d c1a %d c1b %d c1c %d c2 %d",
                  inliers_, ref_matches, close_tracked, close_untracked, c1a, c1b, c1c, c2);
   if (!((c1a || c1b || c1c) && c2)) return false;
   return idle || sink_.queued() < 3;

@@ -207,8 +207,11 @@ std::string accuracyRows(const std::string& md) {
 // byte for byte.
 TEST(BenchJobsCli, EmitParallelCollectEqualsPlainBench) {
   TempDir tmp;
+  // scripts/install-deps.sh installs GNU parallel (CI runs it): a missing one
+  // fails the test rather than skipping the acceptance check unseen.
   const auto parallel = test::runShellSplit("parallel --version");
-  if (parallel.exit_code != 0) GTEST_SKIP() << "GNU parallel not installed (scripts/install-deps.sh)";
+  ASSERT_EQ(parallel.exit_code, 0) << "GNU parallel not installed (scripts/install-deps.sh): "
+                                   << parallel.err;
   test::writeText(tmp / "det.yaml", "system:\n  deterministic: true\n");
   const std::vector<std::string> common = {test::rpyDir(), "--modes", "off,flow", "--runs", "1",
                                            "--max-frames", "60", "--config", tmp / "det.yaml"};

@@ -1,9 +1,12 @@
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
 #include <cstring>
 #include <memory>
+#include <string>
 #include <thread>
+#include <vector>
 #include <fstream>
 
 #include "core/association.h"
@@ -11,6 +14,7 @@
 #include "core/camera.h"
 #include "core/errors.h"
 #include "core/json_writer.h"
+#include "core/dynamic_mode.h"
 #include "core/run_layout.h"
 #include "core/stats.h"
 #include "core/timing.h"
@@ -168,6 +172,25 @@ TEST(Timing, MsSinceMeasuresAKnownSleep) {
   EXPECT_NEAR(secondsSince(t0), ms / 1000.0, 0.5);
 }
 
+// Known intervals, no clock involved: the stage times SlamSystem records.
+TEST(Timing, MsBetweenKnownTimePoints) {
+  const SteadyClock::time_point a{};
+  EXPECT_DOUBLE_EQ(msBetween(a, a + std::chrono::microseconds(1500)), 1.5);
+  EXPECT_DOUBLE_EQ(msBetween(a + std::chrono::seconds(2), a), -2000.0);
+  EXPECT_DOUBLE_EQ(msBetween(a, a), 0.0);
+}
+
+// Busy work costs CPU time, counted in both units alike.
+TEST(Timing, ProcessCpuTimeGrowsWithWork) {
+  const double s0 = processCpuSeconds(), ms0 = processCpuMs();
+  volatile double x = 0;
+  for (int i = 0; i < 20000000; ++i) x = x + 1e-9 * i;
+  const double s1 = processCpuSeconds(), ms1 = processCpuMs();
+  EXPECT_GT(s1, s0);
+  EXPECT_NEAR(ms0, 1e3 * s0, 1.0);
+  EXPECT_NEAR(ms1, 1e3 * s1, 1.0);
+}
+
 TEST(Timing, PeakRssGrowsByTouchedMemory) {
   const double before = peakRssMb();
   EXPECT_GT(before, 1.0);
@@ -183,4 +206,46 @@ TEST(RunLayout, DynamicMaskPathKeepsSixDecimals) {
   EXPECT_EQ(dynamicMaskPath("out/run", 1305031229.528748),
             "out/run/dynamic_masks/1305031229.528748.png");
   EXPECT_EQ(dynamicMaskPath("r", 12.5), "r/dynamic_masks/12.500000.png");
+}
+
+// The names README and docs/ promise for a run folder (export, bench and
+// user scripts open them by these names).
+TEST(RunLayout, FileNamesOfARunFolder) {
+  const RunLayout run{"out/run"};
+  EXPECT_EQ(run.trajectory(), "out/run/trajectory.txt");
+  EXPECT_EQ(run.keyFrames(), "out/run/keyframes.txt");
+  EXPECT_EQ(run.mapPoints(), "out/run/map_points.txt");
+  EXPECT_EQ(run.runInfo(), "out/run/run_info.yaml");
+  EXPECT_EQ(run.frameTimes(), "out/run/frame_times.txt");
+  EXPECT_EQ(run.report(), "out/run/report.json");
+  EXPECT_EQ(run.configUsed(), "out/run/config_used.yaml");
+  EXPECT_EQ(run.savedMap(), "out/run/map.dsm");
+  EXPECT_EQ(run.dynamicMasksDir(), "out/run/dynamic_masks");
+  EXPECT_EQ(run.dynamicMask(1305031229.528748), "out/run/dynamic_masks/1305031229.528748.png");
+}
+
+// The names `dynslam run --mode` and `bench --modes` take and report.json
+// and run_info.yaml hold (docs/benchmarks.md tables use them too).
+TEST(DynamicMode, NamesRoundTripAndUnknownNamesAreRejected) {
+  EXPECT_EQ(dynamicModeNames(), (std::vector<std::string>{"off", "detect", "flow", "detect+flow"}));
+  EXPECT_EQ(parseDynamicMode("off"), DynamicMode::kOff);
+  EXPECT_EQ(parseDynamicMode("detect"), DynamicMode::kDetect);
+  EXPECT_EQ(parseDynamicMode("flow"), DynamicMode::kFlow);
+  EXPECT_EQ(parseDynamicMode("detect+flow"), DynamicMode::kDetectAndFlow);
+  EXPECT_STREQ(dynamicModeName(DynamicMode::kDetectAndFlow), "detect+flow");
+  EXPECT_FALSE(parseDynamicMode("Off"));
+  EXPECT_FALSE(parseDynamicMode("flow+detect"));
+  EXPECT_FALSE(parseDynamicMode(""));
+  EXPECT_EQ(dynamicModeChoices(), "off, detect, flow or detect+flow");
+}
+
+TEST(DynamicMode, WhichCuesEachModeUses) {
+  EXPECT_FALSE(usesDetector(DynamicMode::kOff));
+  EXPECT_FALSE(usesFlow(DynamicMode::kOff));
+  EXPECT_TRUE(usesDetector(DynamicMode::kDetect));
+  EXPECT_FALSE(usesFlow(DynamicMode::kDetect));
+  EXPECT_FALSE(usesDetector(DynamicMode::kFlow));
+  EXPECT_TRUE(usesFlow(DynamicMode::kFlow));
+  EXPECT_TRUE(usesDetector(DynamicMode::kDetectAndFlow));
+  EXPECT_TRUE(usesFlow(DynamicMode::kDetectAndFlow));
 }

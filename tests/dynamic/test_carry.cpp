@@ -12,7 +12,6 @@
 #include <stdexcept>
 
 #include "dynamic/box_carrier.h"
-#include "dynamic/mask_scoring.h"
 #include "dynamic/motion_check.h"
 #include "synthetic_scene.h"
 
@@ -211,36 +210,8 @@ TEST(MotionCarry, HalfResolutionTrackingRecoversAKnownShift) {
   EXPECT_THROW(check.track(fa, fc, pts, ok), std::invalid_argument);  // mixed scales
 }
 
-TEST(MaskScoringBoxes, StaticPointsInUnmaskedPersonBoxesCountedApart) {
-  cv::Mat gt(100, 200, CV_8U, cv::Scalar(0));
-  gt(cv::Rect(20, 20, 30, 60)).setTo(1);  // a walker
-  // Points: 2 on the walker, 2 static inside a box on nobody (the seated
-  // person), 2 static elsewhere; flags: walker both, seated both, other one.
-  const std::vector<cv::Point2f> pts = {{35, 50}, {30, 40}, {130, 50}, {140, 60},
-                                        {180, 10}, {100, 90}};
-  const std::vector<uint8_t> flags = {1, 1, 1, 1, 1, 0};
-  const std::vector<cv::Rect2f> boxes = {cv::Rect2f(120, 30, 40, 50),   // on nobody
-                                         cv::Rect2f(15, 15, 40, 70)};  // on the walker
-  const MaskScore s = scoreKeypoints(pts, flags, gt, 3, &boxes);
-  EXPECT_EQ(s.walker_points, 2);
-  EXPECT_EQ(s.static_points, 4);
-  EXPECT_EQ(s.static_flagged, 3);
-  EXPECT_EQ(s.static_in_unmasked_box, 2);
-  EXPECT_EQ(s.static_in_unmasked_box_flagged, 2);
-  EXPECT_DOUBLE_EQ(s.falseRejectionRate(), 0.75);
-  EXPECT_DOUBLE_EQ(s.falseRejectionRateOutsideUnmaskedBoxes(), 0.5);
-  // Without boxes nothing is set apart.
-  const MaskScore n = scoreKeypoints(pts, flags, gt, 3);
-  EXPECT_EQ(n.static_in_unmasked_box, 0);
-  EXPECT_DOUBLE_EQ(n.falseRejectionRateOutsideUnmaskedBoxes(), 0.75);
-}
 
-TEST(MaskScoringBoxes, BadInputsThrow) {
-  const cv::Mat gt(10, 10, CV_8U, cv::Scalar(0));
-  EXPECT_THROW(scoreKeypoints({{1, 1}}, {}, gt), std::invalid_argument);
-  EXPECT_THROW(scoreKeypoints({{1, 1}}, {0}, cv::Mat(10, 10, CV_16U)), std::invalid_argument);
-  EXPECT_THROW(scoreKeypoints({{1, 1}}, {0}, cv::Mat()), std::invalid_argument);
-  EXPECT_THROW(scoreKeypoints({{1, 1}}, {0}, gt, -1), std::invalid_argument);
+TEST(BoxDepthMasker, HintsOnePerBoxOrThrow) {
   BoxDepthMasker m;
   const std::vector<float> no_hints;  // one per box expected
   EXPECT_THROW(m.computeFromBoxes(cv::Mat(10, 10, CV_16U, cv::Scalar(0)), 5000,

@@ -1,5 +1,4 @@
-// Depth-based masks (box depth mask, region growing) on synthetic depth, and
-// the keypoint scoring helper on a hand-made ground-truth mask.
+// Depth-based masks (box depth mask, region growing) on synthetic depth.
 #include <gtest/gtest.h>
 
 #include <opencv2/imgproc.hpp>
@@ -7,7 +6,6 @@
 #include <cmath>
 
 #include "dynamic/depth_masks.h"
-#include "dynamic/mask_scoring.h"
 
 using namespace dynslam;
 
@@ -128,43 +126,3 @@ TEST(DepthRegionGrower, GrowsOverTheObjectNotAcrossDepthSteps) {
   EXPECT_GT(cv::countNonZero(wall), int(0.2 * 320 * 240));
 }
 
-TEST(MaskScoring, CountsAgainstAHandMadeMask) {
-  // 40x20 mask: walker 1 at x 2..13, person 2 standing still (130) at
-  // x 26..35, both rows 2..17; static in between (x 17..22 is >= 3 px from both).
-  cv::Mat gt(20, 40, CV_8U, cv::Scalar(0));
-  gt(cv::Rect(2, 2, 12, 16)).setTo(1);
-  gt(cv::Rect(26, 2, 10, 16)).setTo(130);
-  const std::vector<cv::Point2f> pts = {
-      {7, 9},    // walker core (5 px from the nearest edge)  flagged     -> TP
-      {8, 10},   // walker core                               not flagged -> miss
-      {5, 5},    // walker, exactly 3 px inside: core         flagged     -> TP
-      {3, 9},    // walker, 1 px inside: boundary             flagged
-      {15, 9},   // static, 2 px from the walker: boundary
-      {30, 10},  // standing core                             flagged
-      {31, 9},   // standing core                             not flagged
-      {19, 0},   // static                                    flagged     -> false rejection
-      {20, 19},  // static                                    not flagged
-      {24, 5},   // static, 2 px from the standing person: boundary
-      {-1, 5},   // outside the image: skipped
-  };
-  const std::vector<uint8_t> flags = {1, 0, 1, 1, 0, 1, 0, 1, 0, 0, 1};
-  const MaskScore s = scoreKeypoints(pts, flags, gt);
-  EXPECT_EQ(s.walker_points, 3);
-  EXPECT_EQ(s.walker_flagged, 2);
-  EXPECT_EQ(s.standing_points, 2);
-  EXPECT_EQ(s.standing_flagged, 1);
-  EXPECT_EQ(s.static_points, 2);
-  EXPECT_EQ(s.static_flagged, 1);
-  EXPECT_EQ(s.boundary_points, 3);
-  EXPECT_EQ(s.boundary_flagged, 1);
-  EXPECT_DOUBLE_EQ(s.recall(), 2.0 / 3.0);
-  EXPECT_DOUBLE_EQ(s.falseRejectionRate(), 0.5);
-  EXPECT_DOUBLE_EQ(s.standingRejectionRate(), 0.5);
-
-  MaskScore sum = s;
-  sum += s;
-  EXPECT_EQ(sum.walker_points, 6);
-  EXPECT_DOUBLE_EQ(sum.recall(), 2.0 / 3.0);
-  EXPECT_TRUE(std::isnan(MaskScore().recall()));
-  EXPECT_THROW(scoreKeypoints(pts, {1, 0}, gt), std::invalid_argument);
-}

@@ -1,4 +1,4 @@
-#include "dynamic/mask_scoring.h"
+#include "eval/mask_scoring.h"
 
 #include <opencv2/imgproc.hpp>
 
