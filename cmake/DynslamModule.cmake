@@ -1,13 +1,19 @@
-# dynslam_module(NAME [DEPS target...])
+# dynslam_module(NAME [DEPS target...] [PRIVATE_DEPS target...])
 #   Builds the static library dynslam_NAME from every .cpp in the calling folder.
+#   DEPS are what its headers include (PUBLIC: a user of the module needs
+#   them too); PRIVATE_DEPS what only its .cpp files use. PRIVATE_DEPS come
+#   first on the link line (render/ relies on that for OSMesa).
 #   Headers are included as "<folder>/<header>.h" relative to the module's parent
 #   (lib/ for lib modules, the repo root for rawlog/ and render/).
 function(dynslam_module NAME)
-  cmake_parse_arguments(M "" "" "DEPS" ${ARGN})
+  cmake_parse_arguments(M "" "" "DEPS;PRIVATE_DEPS" ${ARGN})
   file(GLOB _srcs CONFIGURE_DEPENDS "${CMAKE_CURRENT_SOURCE_DIR}/*.cpp")
   add_library(dynslam_${NAME} STATIC ${_srcs})
   get_filename_component(_parent "${CMAKE_CURRENT_SOURCE_DIR}" DIRECTORY)
   target_include_directories(dynslam_${NAME} PUBLIC "${_parent}")
+  if(M_PRIVATE_DEPS)
+    target_link_libraries(dynslam_${NAME} PRIVATE ${M_PRIVATE_DEPS})
+  endif()
   target_link_libraries(dynslam_${NAME} PUBLIC ${M_DEPS})
   target_compile_definitions(dynslam_${NAME} PRIVATE
     DYNSLAM_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
