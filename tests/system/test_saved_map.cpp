@@ -206,11 +206,35 @@ TEST_F(SavedMap, SecondSessionGoesOnInTheMapAndSavesItGrown) {
 // DISABLED (issue 18, open): the issue's acceptance, growth < 10 %, is not
 // met. Measured 2026-12-02 (--mode off --deterministic): on these 60 frames
 // 2029 -> 3098 map points (+53 %), 14 -> 25 keyframes; on the whole fr1_rpy
-// 12598 -> 26319 (+109 %), 276 -> 469 keyframes. The second session inserts
-// keyframes at the first session's rate (tracked < 0.75 x the reference
-// keyframe's points, the mapper being idle) and each adds ~500 points from
-// untracked close keypoints, of which fusion merges ~300. The old bound here
-// (1.5 x) was not the acceptance and failed too (3098 against 3043).
+// 12598 -> 26319 (+109 %), 276 -> 469 keyframes (543 inserted, 350 culled).
+// Cause (traced with --log-level trace): the keyframe test compares the
+// frame's tracked points with its reference keyframe's points that another
+// keyframe also observes (Tracker::needNewKeyFrame, kf_ref_ratio 0.75). That
+// count grows with the keyframes around the reference (later keyframes
+// observe its points, fusion gives it the neighbours' points): in the
+// 60-frame map keyframe 2 has 294 such points when made and 340 when loaded,
+// keyframe 4 272 when made and 480 by the second session's frame 13. A
+// single frame tracks ~200-450 wherever it is, so against any mature
+// reference the test fires, and every keyframe added makes the next one's
+// reference denser. Of the 11 keyframes the second session adds on 60
+// frames, 8 reference a loaded keyframe; on the whole sequence the same
+// feedback already drives the first session (keyframes on 22 % of frames
+// 0-99, on 84 % of frames 300-499, where the reference's count is ~510 and
+// the frame tracks ~340) and the second one from its first frames (54 %,
+// then 73-90 %). Each keyframe then adds ~500 points from depth for its
+// untracked close keypoints; only ~1/4 of them lie within 2 cm and 4 px of a
+// map point (most are keypoints no keyframe had: ORB detections do not
+// repeat from frame to frame), and those of the last keyframes outlive the
+// run (probation counts keyframes). Tried and dropped (each measured on both
+// sessions): counting only the reference's points that keyframes older than
+// it observe (60 frames: 12 kfs, ATE 0.0335 against 0.0273 m, second session
+// +26 %; whole: 235 kfs, ATE 0.0226 against 0.0208 m, second session 235 ->
+// 441 kfs, 10919 -> 24584 points) and the reference frame's own tracked count
+// when it was made (60 frames: 9 kfs, ATE 0.0391 m, second session +62 %;
+// whole: 36 kfs, 2922 points, 10 x the frame rate, but ATE 0.0261 against
+// 0.0208 m, second session 36 -> 45 kfs, 2922 -> 3624 points, ATE 0.0246 m).
+// The old bound here (1.5 x) was not the acceptance and failed too (3098
+// against 3043).
 TEST_F(SavedMap, DISABLED_SecondSessionGrowsTheMapByLessThanTenPercent) {
   const std::string second = secondSession(dir_->path(), mapFile());
   cv::FileStorage report(second + "/report.json", cv::FileStorage::READ | cv::FileStorage::FORMAT_JSON);
