@@ -1,11 +1,7 @@
 #include "eval/keypoint_truth_scorer.h"
 
-#include <filesystem>
-
-#include <opencv2/imgcodecs.hpp>
-
 #include "core/atomic_file.h"
-#include "core/errors.h"
+#include "core/truth_masks.h"
 
 namespace dynslam {
 
@@ -19,12 +15,7 @@ void KeypointTruthScorer::addFrame(const std::string& rgb_source, cv::Size image
                                    const std::vector<uint8_t>& flags,
                                    const std::vector<uint8_t>& flags_before_tracking,
                                    const std::vector<cv::Rect2f>& person_boxes) {
-  const std::string mask_path =
-      masks_dir_ + "/" + std::filesystem::path(rgb_source).stem().string() + ".png";
-  if (!fileExists(mask_path)) throw InputError(mask_path, "dynamic-pixel mask missing");
-  const cv::Mat gt = cv::imread(mask_path, cv::IMREAD_UNCHANGED);
-  if (gt.type() != CV_8UC1 || gt.size() != image_size)
-    throw InputError(mask_path, "mask must be 8-bit single channel, the size of the RGB image");
+  const cv::Mat gt = loadTruthMask(truthMaskPath(masks_dir_, rgb_source), image_size);
   frames_.push_back(scoreKeypoints(points, flags, gt, kMarginPx, &person_boxes));
   total_ += frames_.back();
   before_tracking_ += flags_before_tracking.empty()

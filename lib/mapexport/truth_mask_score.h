@@ -29,6 +29,7 @@
 #include <vector>
 
 #include "core/camera.h"
+#include "core/truth_masks.h"
 #include "mapexport/colored_cloud.h"
 
 namespace dynslam {
@@ -38,13 +39,6 @@ enum class TruthLabel { kStatic, kWalker, kStanding };
 inline TruthLabel truthLabel(std::uint8_t v) {
   return v == 0 ? TruthLabel::kStatic : (v < 128 ? TruthLabel::kWalker : TruthLabel::kStanding);
 }
-
-/// masks_dir/<stem of rgb_source>.png, the naming of make_dynamic_sequence.py.
-std::string truthMaskPath(const std::string& masks_dir, const std::string& rgb_source);
-
-/// Reads a ground-truth mask; throws InputError naming `path` if it is
-/// missing, unreadable, not 8-bit single-channel or not of `size`.
-cv::Mat loadTruthMask(const std::string& path, cv::Size size);
 
 struct MaskShare {
   std::size_t points = 0;           ///< points scored
