@@ -1,5 +1,7 @@
 #include "bench/bench_report.h"
 
+#include <algorithm>
+
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -83,6 +85,7 @@ std::vector<ModeSummary> summarizeModes(const BenchResults& res) {
       std::vector<double> recall, fr, fr_out, standing, kfs, points, relocs, loops;
       std::vector<std::pair<double, int>> ate_by_run;
       int first_ok = 0;
+      std::vector<uint32_t> crcs;
       for (const RunRecord& r : res.runs) {
         if (r.sequence != seq.name || r.mode != mode) continue;
         ++m.runs;
@@ -91,6 +94,7 @@ std::vector<ModeSummary> summarizeModes(const BenchResults& res) {
           continue;
         }
         if (!first_ok) first_ok = r.run;
+        crcs.push_back(r.outputs_crc);
         const SummaryStats f = finiteStats(r.times.frame_ms), t = finiteStats(r.times.track_ms);
         fmean.push_back(f.mean);
         fmed.push_back(f.median);
@@ -140,6 +144,8 @@ std::vector<ModeSummary> summarizeModes(const BenchResults& res) {
       m.relocalisations = spreadOf(relocs);
       m.loops_closed = spreadOf(loops);
       m.representative_run = first_ok;
+      m.identical_outputs =
+          crcs.size() >= 2 && std::all_of(crcs.begin(), crcs.end(), [&](uint32_t c) { return c == crcs[0]; });
       double best = std::numeric_limits<double>::infinity();
       for (const auto& [value, run] : ate_by_run) {
         const double d = std::abs(value - m.ate_rmse.median);
@@ -199,6 +205,7 @@ std::string BenchReport::json() const {
           .value("mode", mode)
           .value("runs", m.runs)
           .value("failed", m.failed)
+          .value("identical_outputs", m.identical_outputs)
           .value("representative_run", m.representative_run);
       w.beginObject("summary");
       spreadJson(w, "ate_rmse_m", m.ate_rmse);
@@ -277,7 +284,7 @@ std::string BenchReport::markdown() const {
   md << "`dynslam bench` " << DYNSLAM_VERSION << ": " << o.runs << " run(s) per sequence and mode, "
      << (o.max_frames ? "first " + std::to_string(o.max_frames) + " frames" : std::string("whole sequences"))
      << ", config " << (o.config.empty() ? std::string("`configs/dynslam.yaml`") : "`" + o.config + "`")
-     << ". Cells are the median over runs with [min–max]. ATE and RPE are computed as `dynslam eval` "
+     << ". Cells are the median over runs with [min–max]; \"identical\" after the run count: every run wrote byte-identical trajectory, keyframes and map points, so there is one result, not a spread. ATE and RPE are computed as `dynslam eval` "
         "computes them (TUM conventions; RPE over 1 s; coverage over the frames given to the run). Frame time: everything the tracking "
         "thread does per frame (ORB extraction, dynamic-feature filter, tracking); fps: frames "
         "per second of the run's frame loop; memory: the run process's peak resident set.\n";
@@ -291,7 +298,8 @@ std::string BenchReport::markdown() const {
          << "|---|---|---|---|---|---|---|\n";
       for (const auto& mode : o.modes) {
         const ModeSummary& m = *find(seq.name, mode);
-        md << "| " << mode << " | " << m.runs - m.failed << "/" << m.runs << " | "
+        md << "| " << mode << " | " << m.runs - m.failed << "/" << m.runs
+           << (m.identical_outputs ? ", identical" : "") << " | "
            << cell(m.ate_rmse, 4) << " | " << cell(m.ate_sd, 4) << " | " << cell(m.rpe_trans_rmse, 4)
            << " | " << cell(m.rpe_rot_rmse, 2) << " | " << cell(m.coverage, 1, 100) << " |\n";
       }

@@ -24,6 +24,9 @@ struct ModeSummary {
   Spread recall, false_rejection, false_rejection_outside_boxes, standing_rejection;
   // Map size and place recognition.
   Spread keyframes, map_points, relocalisations, loops_closed;
+  /// At least two runs ok and all wrote byte-identical results (their
+  /// spreads are then of width zero: one result, not a distribution).
+  bool identical_outputs = false;
   /// The run shown in the plots: ATE RMSE closest to the median (the first
   /// successful run without groundtruth); 0 if every run failed.
   int representative_run = 0;

@@ -10,6 +10,7 @@
 
 #include "bench/child_process.h"
 #include "core/atomic_file.h"
+#include "core/checksum.h"
 #include "core/errors.h"
 #include "core/run_layout.h"
 #include "rawlog/sequence_source.h"
@@ -79,6 +80,10 @@ RunRecord readRunRecord(const BenchPlan& plan, const PlannedRun& run) {
   r.relocalisations = jsonNumberAt(report, "relocalisation_count");
   r.loops_closed = jsonNumberAt(report, "loop_closing.loops_closed");
   r.times = readFrameTimes(layout.frameTimes());
+  std::string outputs;
+  for (const std::string& f : {layout.trajectory(), layout.keyFrames(), layout.mapPoints()})
+    if (fileExists(f)) outputs += readTextFile(f);
+  r.outputs_crc = crc32Of(outputs);
   if (!seq.groundtruth.empty()) {
     // Exactly `dynslam eval GT EST --seq SEQ` (coverage needs a TUM folder),
     // except that a --max-frames run's coverage counts only the frames it was given.

@@ -16,7 +16,9 @@ int runMain(int argc, char** argv) {
       "Runs RGB-D SLAM on a TUM RGB-D folder or an MRPT rawlog and writes OUT_DIR/"
       "trajectory.txt (every tracked frame, TUM format, camera-to-world, first frame at "
       "identity), keyframes.txt, map_points.txt, run_info.yaml, config_used.yaml and report.json. Frames where "
-      "tracking is lost get no pose. A rawlog's range image taken by a separate depth camera "
+      "tracking is lost get no pose. Runs repeat: the same input, config and build give "
+      "byte-identical outputs whatever the machine's load (report.json depends_on names all "
+      "three). A rawlog's range image taken by a separate depth camera "
       "(other intrinsics or a relativePoseIntensityWRTDepth beyond the change of axes) is "
       "registered to the RGB camera (report.json: input_source). The default configs and the vocabulary are read from "
       "PREFIX/share/dynslam/configs for an installed dynslam ($DYNSLAM_DATA_DIR overrides it), "
@@ -54,10 +56,6 @@ int runMain(int argc, char** argv) {
   // Signed, so that -1 is seen (as size_t it would wrap to "all frames").
   TCLAP::ValueArg<long long> max_frames("", "max-frames", "process only the first N frames",
                                           false, 0, "N", cmd);
-  TCLAP::SwitchArg deterministic("", "deterministic",
-                                 "local mapping in the tracking thread: identical output on "
-                                 "every run (slower)",
-                                 cmd);
   TCLAP::ValueArg<std::string> map(
       "", "map",
       "start in a map saved by --save-map (docs/map_file.md): the first frame relocalises in it "
@@ -84,7 +82,6 @@ int runMain(int argc, char** argv) {
   o.sensor = sensor.getValue();
   o.mode = *parseDynamicMode(mode.getValue());  // TCLAP admitted only the names
   o.max_frames = static_cast<std::size_t>(max_frames.getValue());
-  if (deterministic.getValue()) o.deterministic = 1;
   if (localize.getValue() && !map.isSet()) throw UsageError("--localize needs --map MAP.dsm");
   if (localize.getValue() && save_map.getValue())
     throw UsageError("--save-map with --localize: localisation does not change the map");

@@ -1,16 +1,13 @@
 #pragma once
 // A FIFO of work items handled one at a time, in order, by one background
-// thread: the shape both keyframe consumers (LocalMapper, LoopClosing) need.
+// thread: the shape of the local mapper's keyframe queue.
 //
 // Why one class: the waiting rules are easy to get subtly wrong (a flush that
 // returns while the last item is still being handled, a stop that drops
 // queued keyframes), so they live here once:
 //   - flush() returns when the queue is empty *and* no item is in progress;
-//   - pause() holds the worker after its current item and returns once that
-//     item is done (loop correction needs the map to itself); items pushed
-//     meanwhile wait until resume(); pauses nest;
 //   - stop() lets the worker handle what is queued, then joins it.
-// Without a thread (threaded = false: deterministic runs) nothing runs by
+// Without a thread (threaded = false: unit tests) nothing runs by
 // itself; the owner drains the queue with tryPop().
 // An exception from the handler stops the work (queued items are dropped:
 // the state they would build on is suspect) and is rethrown in the owner's
@@ -84,23 +81,7 @@ class WorkQueue {
   /// Rethrows the handler's exception, if one was thrown (owner's thread).
   void rethrowIfFailed() const { error_.rethrowIfFailed(); }
 
-  void pause() {
-    if (!threaded_) return;
-    std::unique_lock<std::mutex> lk(mutex_);
-    ++pause_requests_;
-    cv_.wait(lk, [&] { return !busy_; });
-  }
-
-  void resume() {
-    if (!threaded_) return;
-    {
-      std::lock_guard<std::mutex> lk(mutex_);
-      if (pause_requests_ > 0) --pause_requests_;
-    }
-    cv_.notify_all();
-  }
-
-  /// Handles what is queued (even while paused), then joins the worker.
+  /// Handles what is queued, then joins the worker.
   void stop() {
     {
       std::lock_guard<std::mutex> lk(mutex_);
@@ -116,7 +97,7 @@ class WorkQueue {
       T item;
       {
         std::unique_lock<std::mutex> lk(mutex_);
-        cv_.wait(lk, [&] { return stop_ || (!queue_.empty() && pause_requests_ == 0); });
+        cv_.wait(lk, [&] { return stop_ || !queue_.empty(); });
         if (queue_.empty()) return;  // stop requested and nothing left
         item = std::move(queue_.front());
         queue_.pop_front();
@@ -140,7 +121,6 @@ class WorkQueue {
   std::deque<T> queue_;
   bool busy_ = false;
   bool stop_ = false;
-  int pause_requests_ = 0;
   std::thread thread_;
 };
 

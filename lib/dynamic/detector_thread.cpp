@@ -5,9 +5,9 @@
 
 namespace dynslam {
 
-DetectorThread::DetectorThread(const YoloDetectorParams& params, bool async, int interval)
-    : detector_(params), async_(async), interval_(std::max(1, interval)) {
-  if (async_) thread_ = std::thread([this] { loop(); });
+DetectorThread::DetectorThread(const YoloDetectorParams& params, int interval)
+    : detector_(params), interval_(std::max(1, interval)) {
+  thread_ = std::thread([this] { loop(); });
 }
 
 DetectorThread::~DetectorThread() {
@@ -27,51 +27,63 @@ std::size_t DetectorThread::runs() const {
 void DetectorThread::loop() {
   for (;;) {
     cv::Mat img;
-    long frame = -1;
     {
       std::unique_lock<std::mutex> lk(m_);
-      cv_.wait(lk, [&] { return stop_ || !pending_.empty(); });
+      auto next = [&] {
+        return std::find_if(jobs_.begin(), jobs_.end(), [](const Job& j) { return !j.done && !j.bgr.empty(); });
+      };
+      cv_.wait(lk, [&] { return stop_ || next() != jobs_.end(); });
       if (stop_) return;
-      img = std::move(pending_);
-      pending_ = cv::Mat();
-      frame = pending_frame_;
+      img = std::move(next()->bgr);  // the job stays queued (not done) while detected
     }
     std::vector<Detection> boxes;
-    if (!error_.run([&] { boxes = detector_.detect(img); })) return;  // the owner rethrows
-    std::lock_guard<std::mutex> lk(m_);
-    result_ = std::move(boxes);
-    result_frame_ = frame;
-    result_new_ = true;
-    ++runs_;
+    const bool ok = error_.run([&] { boxes = detector_.detect(img); });
+    {
+      std::lock_guard<std::mutex> lk(m_);
+      if (!ok) {
+        failed_ = true;
+      } else {
+        auto it = std::find_if(jobs_.begin(), jobs_.end(), [](const Job& j) { return !j.done; });
+        it->boxes = std::move(boxes);
+        it->done = true;
+        ++runs_;
+      }
+    }
+    cv_.notify_all();
+    if (!ok) return;  // the owner rethrows
   }
 }
 
 void DetectorThread::submit(const cv::Mat& bgr, long frame) {
   error_.rethrowIfFailed();
-  if (frame - last_submitted_ < interval_) return;
+  if (any_submitted_ && frame - last_submitted_ < interval_) return;
+  any_submitted_ = true;
   last_submitted_ = frame;
-  if (!async_) {
-    std::vector<Detection> boxes = detector_.detect(bgr);
+  Job job;
+  job.frame = frame;
+  job.bgr = bgr.clone();
+  {
     std::lock_guard<std::mutex> lk(m_);
-    result_ = std::move(boxes);
-    result_frame_ = frame;
-    result_new_ = true;
-    ++runs_;
-    return;
+    jobs_.push_back(std::move(job));
   }
-  std::lock_guard<std::mutex> lk(m_);
-  pending_ = bgr.clone();  // replaces a frame the detector has not started on
-  pending_frame_ = frame;
   cv_.notify_all();
 }
 
-bool DetectorThread::take(std::vector<Detection>& boxes, long& frame) {
-  error_.rethrowIfFailed();
-  std::lock_guard<std::mutex> lk(m_);
-  if (!result_new_) return false;
-  boxes = std::move(result_);
-  frame = result_frame_;
-  result_new_ = false;
+bool DetectorThread::takeDue(long now, std::vector<Detection>& boxes, long& frame) {
+  std::unique_lock<std::mutex> lk(m_);
+  if (jobs_.empty() || jobs_.front().frame + interval_ > now) {
+    lk.unlock();
+    error_.rethrowIfFailed();
+    return false;
+  }
+  cv_.wait(lk, [&] { return failed_ || jobs_.front().done; });
+  if (failed_) {
+    lk.unlock();
+    error_.rethrowIfFailed();
+  }
+  boxes = std::move(jobs_.front().boxes);
+  frame = jobs_.front().frame;
+  jobs_.pop_front();
   return true;
 }
 

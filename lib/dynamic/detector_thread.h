@@ -1,12 +1,14 @@
 #pragma once
-// The detector off the tracking path. A YOLO forward pass (40-100 ms on a
-// 2-core CPU) cannot sit on a 30 fps tracking loop, so it runs in its own
-// thread on the newest frame it was offered (a frame it had no time for is
-// replaced by the next one), at most every `interval` frames; its boxes are
-// taken by the next frame that asks and carried from there by the flow.
-// Synchronous (in line, reproducible) for --deterministic.
+// The detector off the tracking path, on a fixed schedule. A YOLO forward
+// pass (40-100 ms on a 2-core CPU) cannot sit on a 30 fps tracking loop, so
+// it runs in its own thread on every `interval`-th frame, and the boxes of
+// frame i are handed over at frame i + interval (waiting for them if the
+// pass is late, never skipping one). Which frames are detected and when
+// their boxes arrive never depends on thread timing, so runs repeat; the
+// flow carries the boxes from frame i to the frame that uses them.
 #include <condition_variable>
 #include <cstddef>
+#include <deque>
 #include <mutex>
 #include <thread>
 #include <vector>
@@ -20,39 +22,44 @@ namespace dynslam {
 
 class DetectorThread {
  public:
-  /// Loads the model (InputError naming it when missing or unreadable);
-  /// starts the thread when async.
-  DetectorThread(const YoloDetectorParams& params, bool async, int interval);
+  /// Loads the model (InputError naming it when missing or unreadable) and
+  /// starts the thread.
+  DetectorThread(const YoloDetectorParams& params, int interval);
   ~DetectorThread();
   DetectorThread(const DetectorThread&) = delete;
   DetectorThread& operator=(const DetectorThread&) = delete;
 
-  /// Offers frame `frame` (BGR): ignored within `interval` frames of the
-  /// last one taken; otherwise queued for the thread (async) or detected
-  /// now (sync). Rethrows a failed detection of an earlier frame.
+  /// Offers frame `frame` (BGR; frames in increasing order): queued for the
+  /// thread when at least `interval` frames after the last one queued (the
+  /// first always), ignored otherwise. Rethrows a failed detection.
   void submit(const cv::Mat& bgr, long frame);
-  /// The newest boxes not taken yet, with the frame they were detected in;
-  /// false when there are none. Rethrows a failed detection.
-  bool take(std::vector<Detection>& boxes, long& frame);
+  /// At frame `now`: the boxes of the queued frame that is due (queued at
+  /// now - interval or earlier), waiting for its detection to finish; false
+  /// when none is due. Rethrows a failed detection.
+  bool takeDue(long now, std::vector<Detection>& boxes, long& frame);
   /// Detections run so far.
   std::size_t runs() const;
+  int interval() const { return interval_; }
 
  private:
+  struct Job {
+    long frame = -1;
+    cv::Mat bgr;
+    bool done = false;
+    std::vector<Detection> boxes;
+  };
   void loop();
 
   YoloDetector detector_;
-  const bool async_;
   const int interval_;
-  long last_submitted_ = -1000000;
+  long last_submitted_ = 0;
+  bool any_submitted_ = false;
   mutable std::mutex m_;
   std::condition_variable cv_;
-  cv::Mat pending_;
-  long pending_frame_ = -1;
-  std::vector<Detection> result_;
-  long result_frame_ = -1;
-  bool result_new_ = false;
+  std::deque<Job> jobs_;    ///< queued frames in order; the done ones first
   std::size_t runs_ = 0;
   bool stop_ = false;
+  bool failed_ = false;
   WorkerError error_;  ///< a failed detect(), rethrown at the owner's next call
   std::thread thread_;
 };

@@ -96,7 +96,7 @@ DynamicFeatureFilter::DynamicFeatureFilter(const DynamicFilterParams& params,
       motion_(params.motion) {
   if (const char* d = std::getenv("DYNSLAM_DEBUG_DYNAMIC_DIR"); d && *d) debug_dir_ = d;
   if (p_.use_detector)
-    detector_ = std::make_unique<DetectorThread>(p_.detector, p_.async_detector, p_.detector_interval);
+    detector_ = std::make_unique<DetectorThread>(p_.detector, p_.detector_interval);
 }
 
 DynamicFeatureFilter::~DynamicFeatureFilter() {
@@ -184,7 +184,7 @@ cv::Mat DynamicFeatureFilter::prepare(const RGBDFrame& frame, const cv::Mat& gra
     }
     std::vector<Detection> dets;
     long det_frame = -1;
-    if (detector_->take(dets, det_frame)) carrier_.addDetections(det_frame, dets);
+    if (detector_->takeDue(frame_, dets, det_frame)) carrier_.addDetections(det_frame, dets);
     boxes_now_ = carrier_.boxes();
   }
   double ms_boxes = msSince(t0);

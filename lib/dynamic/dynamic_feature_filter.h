@@ -57,15 +57,11 @@ struct DynamicFilterParams {
   /// there; 0 = keep it): movers take a good share of the keypoints, and the
   /// static rest must still carry tracking when they fill the view.
   int orb_features = 1500;
-  /// Run the detector in a background thread on the newest frame (false:
-  /// synchronously, reproducible: set by --deterministic).
-  bool async_detector = true;
-  /// Give the detector a frame at most every this many frames (1: whenever it
-  /// is idle). Larger values leave CPU to tracking (a forward pass costs
-  /// about three frames' worth on a 2-core machine) while the boxes carried
-  /// by the flow fill the gaps; at 4, rpy_close lost the close walkers in 2
-  /// of 3 runs (docs/benchmarks.md), so 1.
-  int detector_interval = 1;
+  /// The detector runs on every this-many-th frame in its own thread and its
+  /// boxes are used this many frames later (DetectorThread). A forward pass
+  /// costs about three frames' worth on a 2-core machine; the boxes carried
+  /// by the flow fill the gaps.
+  int detector_interval = 3;
   /// Keypoints within this distance (px) of a dynamic pixel are flagged.
   int mask_margin_px = 4;
   /// Radius (px) of the disc marked around each point that failed the motion

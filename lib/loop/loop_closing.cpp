@@ -10,21 +10,13 @@
 
 namespace dynslam::loop {
 
-LoopClosing::LoopClosing(Map& map, LocalMapper& mapper,
-                         std::shared_ptr<const OrbVocabulary> vocabulary,
-                         const LoopClosingParams& params, bool threaded)
+LoopClosing::LoopClosing(Map& map, std::shared_ptr<const OrbVocabulary> vocabulary,
+                         const LoopClosingParams& params)
     : map_(map),
-      mapper_(mapper),
       voc_(std::move(vocabulary)),
       p_(params),
       db_(voc_->words()),
-      corrector_(map, params.corrector),
-      threaded_(threaded),
-      queue_([this](KeyFrame* kf) { process(kf); }, threaded && params.close_loops) {
-  queue_.start();
-}
-
-LoopClosing::~LoopClosing() { stop(); }
+      corrector_(map, params.corrector) {}
 
 BowVector LoopClosing::describe(const FeatureSet& f) const {
   // Dynamic keypoints describe people, not the place.
@@ -42,12 +34,7 @@ void LoopClosing::keyFrameMapped(KeyFrame* kf) {
     std::lock_guard<std::mutex> lk(stats_mutex_);
     stats_.keyframes_indexed++;
   }
-  if (!p_.close_loops) return;
-  if (!threaded_) {
-    process(kf);
-    return;
-  }
-  queue_.push(kf);
+  if (p_.close_loops) process(kf);
 }
 
 void LoopClosing::indexLoadedKeyFrame(KeyFrame* kf) { db_.add(kf, describe(kf->f())); }
@@ -64,9 +51,6 @@ std::vector<KeyFrame*> LoopClosing::relocalisationCandidates(const FeatureSet& f
   return out;
 }
 
-void LoopClosing::flush() { queue_.flush(); }
-
-void LoopClosing::stop() { queue_.stop(); }
 
 LoopClosingStats LoopClosing::stats() const {
   std::lock_guard<std::mutex> lk(stats_mutex_);
@@ -204,11 +188,11 @@ bool LoopClosing::verifyAndClose(KeyFrame* kf, KeyFrame* cand) {
       if (a.inliers[k]) lc.matched_points[corr_refs[k].first] = corr_refs[k].second;
     kf->keep = cand->keep = true;
   }
-  mapper_.pause();
+  // In the mapper's step: no local BA or culling interleaves, and the
+  // tracker waits for the step (SlamSystem::process).
   const LoopCorrectionStats cs = corrector_.correct(lc);
   double gba_ms = -1;
   if (cs.ok && p_.global_ba) gba_ms = globalBundleAdjust(map_, p_.global_ba_params).ms;
-  mapper_.resume();
   logf(LogLevel::kDebug, "loop", "closed kf %ld -> %ld: ok %d, %d kfs, %d merged, %d fused, %.1f ms, GBA %.0f ms",
                  kf->id, cand->id, cs.ok ? 1 : 0, cs.keyframes, cs.merged, cs.fused, cs.time_ms, gba_ms);
   if (!cs.ok) return false;

@@ -1,20 +1,20 @@
 #pragma once
 // Place recognition and loop closing, fed by the local mapper. Every mapped
 // keyframe is described as a bag of words and indexed; relocalisation asks the
-// index for keyframes that look like the lost frame. In the background each
-// new keyframe is compared with the non-covisible part of the map: a
+// index for keyframes that look like the lost frame. Each newly mapped
+// keyframe is compared with the non-covisible part of the map: a
 // candidate place seen by three consecutive keyframes is verified by a rigid
 // alignment of matched map points (RigidAligner), and the loop is closed by
 // LoopCorrector (fusion and essential-graph optimisation on MRPT graph-SLAM),
-// optionally followed by a global bundle adjustment. The local mapper is
-// paused while the map is corrected.
+// optionally followed by a global bundle adjustment. All of it runs inside
+// the local mapper's step for the keyframe (keyFrameMapped), so a loop is
+// closed at a fixed point of the run: the tracker waits for that step.
 #include <memory>
 #include <mutex>
 #include <set>
 #include <string>
 #include <vector>
 
-#include "core/work_queue.h"
 #include "loop/loop_corrector.h"
 #include "loop/rigid_aligner.h"
 #include "map/keyframe_interfaces.h"
@@ -54,11 +54,7 @@ struct LoopClosingStats {
 
 class LoopClosing : public MappedKeyFrameListener, public RelocalisationCandidateSource {
  public:
-  /// threaded = false: detection and correction run inside keyFrameMapped()
-  /// (deterministic mode).
-  LoopClosing(Map& map, LocalMapper& mapper, std::shared_ptr<const OrbVocabulary> vocabulary,
-              const LoopClosingParams& params, bool threaded);
-  ~LoopClosing() override;
+  LoopClosing(Map& map, std::shared_ptr<const OrbVocabulary> vocabulary, const LoopClosingParams& params);
 
   void keyFrameMapped(KeyFrame* kf) override;
   void keyFrameCulled(KeyFrame* kf) override;
@@ -67,9 +63,6 @@ class LoopClosing : public MappedKeyFrameListener, public RelocalisationCandidat
   /// (no loop check: its map was corrected when it was made).
   void indexLoadedKeyFrame(KeyFrame* kf);
 
-  /// Waits until every queued keyframe was checked (and loops closed).
-  void flush();
-  void stop();
   LoopClosingStats stats() const;
 
  private:
@@ -80,20 +73,16 @@ class LoopClosing : public MappedKeyFrameListener, public RelocalisationCandidat
   BowVector describe(const FeatureSet& f) const;
 
   Map& map_;
-  LocalMapper& mapper_;
   std::shared_ptr<const OrbVocabulary> voc_;
   LoopClosingParams p_;
   KeyFrameDatabase db_;
   LoopCorrector corrector_;
-  bool threaded_;
 
   std::vector<std::pair<std::set<KeyFrame*>, int>> groups_;  ///< previous keyframe's candidate groups
   long last_loop_kf_ = -1000000;
 
   mutable std::mutex stats_mutex_;
   LoopClosingStats stats_;
-  // Last member: destroyed (its thread joined) before the state it uses.
-  WorkQueue<KeyFrame*> queue_;
 };
 
 }  // namespace dynslam::loop

@@ -17,9 +17,6 @@ class KeyFrameSink {
  public:
   virtual ~KeyFrameSink() = default;
   virtual void insertKeyFrame(KeyFrame* kf) = 0;
-  /// True when the sink can take a keyframe now without queueing.
-  virtual bool idle() const = 0;
-  virtual std::size_t queued() const = 0;
 };
 
 /// Where relocalisation looks first: keyframes that look like the lost frame

@@ -1,7 +1,5 @@
 #include "mapio/map_file.h"
 
-#include <zlib.h>
-
 #include <algorithm>
 #include <cstring>
 #include <fstream>
@@ -12,6 +10,7 @@
 #include <unordered_map>
 
 #include "core/atomic_file.h"
+#include "core/checksum.h"
 #include "core/errors.h"
 #include "mapio/byte_stream.h"
 
@@ -170,19 +169,6 @@ std::vector<T*> byId(std::vector<T*> v) {
 }
 
 }  // namespace
-
-uint32_t crc32Of(const std::string& bytes, std::size_t offset) {
-  uLong crc = crc32(0L, Z_NULL, 0);
-  const auto* p = reinterpret_cast<const Bytef*>(bytes.data()) + offset;
-  std::size_t n = bytes.size() - offset;
-  while (n > 0) {  // zlib takes 32-bit lengths
-    const uInt chunk = static_cast<uInt>(std::min<std::size_t>(n, 1u << 30));
-    crc = crc32(crc, p, chunk);
-    p += chunk;
-    n -= chunk;
-  }
-  return static_cast<uint32_t>(crc);
-}
 
 std::string encodeMap(const Map& map, const FrameContext& ctx, uint64_t vocabulary_checksum) {
   const std::vector<KeyFrame*> kfs = byId(map.keyFrames());

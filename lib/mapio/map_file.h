@@ -40,7 +40,4 @@ struct LoadedMap {
 LoadedMap loadMap(const std::string& path, Map& map, std::shared_ptr<const FrameContext> ctx,
                   uint64_t vocabulary_checksum);
 
-/// CRC-32 (zlib) of bytes.
-uint32_t crc32Of(const std::string& bytes, std::size_t offset = 0);
-
 }  // namespace dynslam::mapio

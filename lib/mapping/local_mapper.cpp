@@ -24,27 +24,69 @@ LocalMapper::~LocalMapper() { stop(); }
 
 void LocalMapper::stop() { queue_.stop(); }
 
-void LocalMapper::insertKeyFrame(KeyFrame* kf) { queue_.push(kf); }
-
-bool LocalMapper::idle() const {
-  if (!threaded_) return true;  // synchronous: always ready after processPending()
-  return queue_.idle();
+void LocalMapper::insertKeyFrame(KeyFrame* kf) {
+  {
+    std::lock_guard<std::mutex> lk(sync_m_);
+    ++inserted_;
+    newest_kf_frame_ = kf->frame_id;
+  }
+  sync_cv_.notify_all();
+  queue_.push(kf);
 }
 
-std::size_t LocalMapper::queued() const { return queue_.size(); }
+void LocalMapper::waitForFrame(long frame) {
+  if (!threaded_) return;
+  {
+    std::unique_lock<std::mutex> lk(sync_m_);
+    // Phase A of every keyframe; phase C of all but a newest one made less
+    // than ba_lag_frames ago.
+    sync_cv_.wait(lk, [&] {
+      if (failed_) return true;
+      if (local_done_ < inserted_) return false;
+      if (done_ == inserted_) return true;
+      return done_ + 1 == inserted_ && frame < newest_kf_frame_ + p_.ba_lag_frames;
+    });
+  }
+  queue_.rethrowIfFailed();
+}
+
+void LocalMapper::frameTracked(long frame) {
+  {
+    std::lock_guard<std::mutex> lk(sync_m_);
+    tracked_frame_ = frame;
+  }
+  sync_cv_.notify_all();
+}
+
+void LocalMapper::waitForWriteBackSlot(const KeyFrame* kf) {
+  if (!threaded_) return;
+  std::unique_lock<std::mutex> lk(sync_m_);
+  // The tracker has finished frame c + lag - 1 (and waits for this before
+  // frame c + lag), or a newer keyframe needs its phase A before the frame
+  // after it, or the run is ending.
+  sync_cv_.wait(lk, [&] {
+    return flushing_ || inserted_ > done_ + 1 || tracked_frame_ >= kf->frame_id + p_.ba_lag_frames - 1;
+  });
+}
 
 void LocalMapper::processPending() {
   KeyFrame* kf = nullptr;
   while (queue_.tryPop(kf)) processKeyFrame(kf);
 }
 
-void LocalMapper::pause() { queue_.pause(); }
-
-void LocalMapper::resume() { queue_.resume(); }
-
 void LocalMapper::flush() {
-  if (!threaded_) processPending();
+  if (!threaded_) {
+    processPending();
+    return;
+  }
+  {
+    std::lock_guard<std::mutex> lk(sync_m_);
+    flushing_ = true;
+  }
+  sync_cv_.notify_all();
   queue_.flush();
+  std::lock_guard<std::mutex> lk(sync_m_);
+  flushing_ = false;
 }
 
 LocalMapper::Stats LocalMapper::stats() const {
@@ -53,23 +95,63 @@ LocalMapper::Stats LocalMapper::stats() const {
 }
 
 void LocalMapper::processKeyFrame(KeyFrame* kf) {
+  // A failed step (an exception) releases a tracker waiting for it; the
+  // queue keeps the error for the owner's next call.
+  struct Release {
+    LocalMapper& m;
+    bool ok = false;
+    ~Release() {
+      if (ok) return;
+      {
+        std::lock_guard<std::mutex> lk(m.sync_m_);
+        m.failed_ = true;
+      }
+      m.sync_cv_.notify_all();
+    }
+  } release{*this};
   const auto t0 = SteadyClock::now();
-  {
+  std::unique_ptr<MapBAProblem> problem;
+  {  // phase A
     std::lock_guard<std::mutex> lk(map_.mutex());
     addObservations(kf);
     cullRecentPoints(kf);
     createNewPoints(kf);
     fuseWithNeighbours(kf);
+    if (p_.local_ba && map_.keyFrameCount() > 2) problem = localBAProblem(kf);
   }
-  const bool more_waiting = queue_.size() > 0;
-  // Like ORB-SLAM, skip BA and culling when keyframes are piling up: the next
-  // keyframe's BA covers this window anyway.
-  if (!more_waiting || !p_.skip_ba_when_busy) {
-    if (p_.local_ba && map_.keyFrameCount() > 2) bundleAdjust(kf);
+  {
+    std::lock_guard<std::mutex> lk(sync_m_);
+    ++local_done_;
+  }
+  sync_cv_.notify_all();
+  BAResult res;
+  if (problem) {  // phase B: on the copy, without the map lock
+    const auto tb = SteadyClock::now();
+    res = dynslam::bundleAdjust(problem->problem(), p_.ba);
+    if (logEnabled(LogLevel::kDebug)) {
+      std::size_t out = 0;
+      for (bool b : res.inlier) out += !b;
+      logf(LogLevel::kDebug, "map", "kf %ld BA: %zu kfs, %zu points, %zu obs, %zu outliers", kf->id,
+           problem->problem().keyframes.size(), problem->points().size(),
+           problem->problem().observations.size(), out);
+    }
+    std::lock_guard<std::mutex> lk(stats_mutex_);
+    stats_.ba_runs++;
+    stats_.ba_ms.push_back(msSince(tb));
+  }
+  waitForWriteBackSlot(kf);
+  {  // phase C
     std::lock_guard<std::mutex> lk(map_.mutex());
+    if (problem) problem->writeBack(res);
     cullKeyFrames(kf);
   }
   if (listener_ && !kf->bad) listener_->keyFrameMapped(kf);
+  {
+    std::lock_guard<std::mutex> lk(sync_m_);
+    ++done_;
+  }
+  sync_cv_.notify_all();
+  release.ok = true;
   std::lock_guard<std::mutex> lk(stats_mutex_);
   stats_.keyframes_processed++;
   stats_.step_ms.push_back(msSince(t0));
@@ -209,57 +291,36 @@ void LocalMapper::fuseWithNeighbours(KeyFrame* kf) {
   kf->updateConnections();
 }
 
-void LocalMapper::bundleAdjust(KeyFrame* kf) {
-  const auto t0 = SteadyClock::now();
-  std::unique_ptr<MapBAProblem> problem;
-  {
-    std::lock_guard<std::mutex> lk(map_.mutex());
-    std::vector<KeyFrame*> local = {kf};
-    kf->ba_local_kf = kf->id;
-    for (KeyFrame* n : kf->orderedCovisibles()) {
-      if (static_cast<int>(local.size()) >= p_.ba_window) break;
-      if (n->bad) continue;
-      n->ba_local_kf = kf->id;
-      local.push_back(n);
-    }
-    // Fixed keyframes: those sharing the most local points (they anchor the gauge).
-    std::map<KeyFrame*, int, KeyFrameIdLess> shared;
-    for (KeyFrame* k : local) {
-      for (MapPoint* mp : k->points) {
-        if (!mp || mp->bad || mp->ba_kf == kf->id) continue;
-        mp->ba_kf = kf->id;
-        for (auto& [o, idx] : mp->obs)
-          if (!o->bad && o->ba_local_kf != kf->id) shared[o]++;
-      }
-    }
-    std::vector<std::pair<int, KeyFrame*>> by_shared;
-    for (auto& [o, n] : shared) by_shared.emplace_back(n, o);
-    std::stable_sort(by_shared.begin(), by_shared.end(),
-                     [](const auto& a, const auto& b) { return a.first > b.first; });
-    std::vector<KeyFrame*> fixed;
-    for (auto& [n, o] : by_shared) {
-      if (static_cast<int>(fixed.size()) >= p_.ba_max_fixed) break;
-      o->ba_fixed_kf = kf->id;
-      fixed.push_back(o);
-    }
-    problem = std::make_unique<MapBAProblem>(local, fixed);
+std::unique_ptr<MapBAProblem> LocalMapper::localBAProblem(KeyFrame* kf) {
+  std::vector<KeyFrame*> local = {kf};
+  kf->ba_local_kf = kf->id;
+  for (KeyFrame* n : kf->orderedCovisibles()) {
+    if (static_cast<int>(local.size()) >= p_.ba_window) break;
+    if (n->bad) continue;
+    n->ba_local_kf = kf->id;
+    local.push_back(n);
   }
-  // The solve runs without the map lock so tracking continues meanwhile.
-  const BAResult res = dynslam::bundleAdjust(problem->problem(), p_.ba);
-  if (logEnabled(LogLevel::kDebug)) {
-    std::size_t out = 0;
-    for (bool b : res.inlier) out += !b;
-    logf(LogLevel::kDebug, "map", "kf %ld BA: %zu kfs, %zu points, %zu obs, %zu outliers", kf->id,
-                 problem->problem().keyframes.size(), problem->points().size(),
-                 problem->problem().observations.size(), out);
+  // Fixed keyframes: those sharing the most local points (they anchor the gauge).
+  std::map<KeyFrame*, int, KeyFrameIdLess> shared;
+  for (KeyFrame* k : local) {
+    for (MapPoint* mp : k->points) {
+      if (!mp || mp->bad || mp->ba_kf == kf->id) continue;
+      mp->ba_kf = kf->id;
+      for (auto& [o, idx] : mp->obs)
+        if (!o->bad && o->ba_local_kf != kf->id) shared[o]++;
+    }
   }
-  {
-    std::lock_guard<std::mutex> lk(map_.mutex());
-    problem->writeBack(res);
+  std::vector<std::pair<int, KeyFrame*>> by_shared;
+  for (auto& [o, n] : shared) by_shared.emplace_back(n, o);
+  std::stable_sort(by_shared.begin(), by_shared.end(),
+                   [](const auto& a, const auto& b) { return a.first > b.first; });
+  std::vector<KeyFrame*> fixed;
+  for (auto& [n, o] : by_shared) {
+    if (static_cast<int>(fixed.size()) >= p_.ba_max_fixed) break;
+    o->ba_fixed_kf = kf->id;
+    fixed.push_back(o);
   }
-  std::lock_guard<std::mutex> lk(stats_mutex_);
-  stats_.ba_runs++;
-  stats_.ba_ms.push_back(msSince(t0));
+  return std::make_unique<MapBAProblem>(local, fixed);
 }
 
 void LocalMapper::cullKeyFrames(KeyFrame* kf) {

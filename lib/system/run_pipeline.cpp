@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "core/atomic_file.h"
+#include "core/checksum.h"
 #include "core/errors.h"
 #include "core/interrupt.h"
 #include "core/stats.h"
@@ -60,7 +61,6 @@ RunSummary runSlam(const RunOptions& opt) {
     throw std::invalid_argument("--save-map with --localize: localisation does not change the map");
   const std::string config_path = opt.config_path.empty() ? defaultSlamConfigPath() : opt.config_path;
   SlamConfig cfg = loadSlamConfig(config_path);
-  if (opt.deterministic >= 0) cfg.system.deterministic = opt.deterministic != 0;
   const std::string config_used = slamConfigYaml(cfg);  // before the mode's derived changes
 
   std::unique_ptr<FrameSource> source = openSequence(opt.input, opt.camera_config, opt.sensor);
@@ -88,7 +88,6 @@ RunSummary runSlam(const RunOptions& opt) {
     DynamicFilterParams dp = cfg.dynamic;
     dp.use_detector = usesDetector(opt.mode);
     dp.use_flow = usesFlow(opt.mode);
-    if (cfg.system.deterministic) dp.async_detector = false;  // reproducible
     filter = std::make_unique<DynamicFeatureFilter>(dp, source->camera());
     slam.setPreprocessor(filter.get());
   }
@@ -154,7 +153,7 @@ RunSummary runSlam(const RunOptions& opt) {
   if (opt.save_map) slam.saveMap(layout.savedMap());
   // Localisation must leave the map as it was read: checked, not assumed.
   loaded.unchanged =
-      opt.localize && mapio::crc32Of(slam.encodeMap(), mapio::kMapHeaderBytes) == loaded.file.payload_crc;
+      opt.localize && crc32Of(slam.encodeMap(), mapio::kMapHeaderBytes) == loaded.file.payload_crc;
   writeTumTrajectory(layout.trajectory(), slam.frameTrajectory(), header);
   writeTumTrajectory(layout.keyFrames(), slam.keyFrameTrajectory(), header + " (keyframes)");
   writeMapPoints(layout.mapPoints(), slam.map());
@@ -178,7 +177,7 @@ RunSummary runSlam(const RunOptions& opt) {
   });
 
   const std::string report = runReportJson({opt, config_path, source->camera().name,
-                                            cfg.system.deterministic, sum, record, slam,
+                                            config_used, sum, record, slam,
                                             source->notes(), filter.get(), truth ? &*truth : nullptr,
                                             opt.map_path.empty() ? nullptr : &loaded});
   writeFileAtomically(layout.report(), [&](std::ostream& os) { os << report; });

@@ -12,8 +12,8 @@
 //   keyframes.txt    final keyframe poses, TUM format
 //   map_points.txt   "x y z r g b" per map point (world frame)
 //   run_info.yaml    input path, camera config, sensor, config, mode
-//   config_used.yaml the whole effective config (every key; --deterministic
-//                    applied): `--config` with it repeats the run, and
+//   config_used.yaml the whole effective config (every key): `--config`
+//                    with it repeats the run byte for byte, and
 //                    `dynslam export` reads its map_export/occupancy_map
 //   frame_times.txt  per frame: timestamp, track and frame_total ms
 //   report.json      counts, per-stage times, fps, peak memory, and what the
@@ -34,7 +34,6 @@ struct RunOptions {
   std::string sensor;         ///< rawlog 3D sensor label; empty: its only one
   DynamicMode mode = DynamicMode::kDetectAndFlow;
   std::size_t max_frames = 0; ///< 0: all
-  int deterministic = -1;     ///< -1: as configured, 0/1: override
   std::string map_path;       ///< a saved map to start in (empty: a new map)
   bool localize = false;      ///< with map_path: track only, the map unchanged
   bool save_map = false;      ///< write OUT/map.dsm

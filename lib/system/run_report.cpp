@@ -3,6 +3,11 @@
 #include <string>
 #include <vector>
 
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "core/checksum.h"
 #include "core/json_writer.h"
 #include "core/stats.h"
 #include "core/stats_json.h"
@@ -17,9 +22,33 @@ void writeStats(JsonWriter& w, const std::string& key, const std::vector<double>
   writeSummaryStatsJson(w, key, s, "count", s.count);
 }
 
+std::string fileText(const std::filesystem::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
 }  // namespace
 
+RunIdentity runIdentity(const std::string& config_used, const std::string& input) {
+  RunIdentity id;
+  id.config = crc32Text(crc32Of(config_used));
+  id.build = crc32Text(crc32OfFile("/proc/self/exe"));
+  namespace fs = std::filesystem;
+  if (fs::is_directory(input)) {
+    std::string lists;
+    for (const char* name : {"rgb.txt", "depth.txt"})
+      if (fs::exists(fs::path(input) / name)) lists += fileText(fs::path(input) / name);
+    id.input = crc32Text(crc32Of(lists));
+  } else {
+    id.input = crc32Text(crc32OfFile(input));
+  }
+  return id;
+}
+
 std::string runReportJson(const RunReportInputs& in) {
+  const RunIdentity id = runIdentity(in.config_used, in.options.input);
   JsonWriter w;
   w.beginObject()
       .value("dynslam_version", DYNSLAM_VERSION)
@@ -27,7 +56,6 @@ std::string runReportJson(const RunReportInputs& in) {
       .value("camera", in.camera)
       .value("config", in.config_path)
       .value("mode", dynamicModeName(in.options.mode))
-      .value("deterministic", in.deterministic)
       .value("interrupted", in.summary.interrupted_by != 0)
       .value("frames", in.summary.frames)
       .value("tracked_frames", in.record.tracked())
@@ -39,6 +67,11 @@ std::string runReportJson(const RunReportInputs& in) {
       .value("wall_time_s", in.summary.wall_s)
       .value("fps", in.summary.fps)
       .value("peak_rss_mb", peakRssMb());
+  w.beginObject("depends_on")
+      .value("config_crc", id.config)
+      .value("build_crc", id.build)
+      .value("input_lists_crc", id.input)
+      .endObject();
   if (in.loaded_map) {
     w.beginObject("loaded_map")
         .value("path", in.options.map_path)

@@ -28,7 +28,7 @@ struct RunReportInputs {
   const RunOptions& options;
   const std::string& config_path;  ///< the config file read
   const std::string& camera;       ///< the camera's name
-  bool deterministic;
+  const std::string& config_used;  ///< the effective config's text (config_used.yaml)
   const RunSummary& summary;
   const RunRecorder& record;
   const SlamSystem& slam;
@@ -40,5 +40,16 @@ struct RunReportInputs {
 
 /// The report's JSON text (the process's peak memory is read now).
 std::string runReportJson(const RunReportInputs& in);
+
+/// What a run's outputs depend on besides the code path taken: the same
+/// three checksums in two reports mean the same effective config, the same
+/// executable and the same input lists, so the outputs must match byte for
+/// byte (issue 17).
+struct RunIdentity {
+  std::string config;  ///< CRC-32 of config_used.yaml's text
+  std::string build;   ///< CRC-32 of the running executable (/proc/self/exe)
+  std::string input;   ///< CRC-32 of a TUM folder's rgb.txt and depth.txt, or of the .rawlog file
+};
+RunIdentity runIdentity(const std::string& config_used, const std::string& input);
 
 }  // namespace dynslam

@@ -14,7 +14,6 @@ namespace dynslam {
 
 template <class P, class F>
 void forEachSystemOption(P& p, F&& f) {
-  f("deterministic", p.deterministic);
   f("bf", p.bf);
   f("close_depth", p.close_depth);
   f("depth_edge_window", p.depth_edge_window);
@@ -75,9 +74,9 @@ void forEachLocalMapperOption(P& p, F&& f) {
   f("redundant_ratio", p.redundant_ratio);
   f("redundant_observers", p.redundant_observers);
   f("local_ba", p.local_ba);
-  f("skip_ba_when_busy", p.skip_ba_when_busy);
   f("ba_window", p.ba_window);
   f("ba_max_fixed", p.ba_max_fixed);
+  f("ba_lag_frames", p.ba_lag_frames);
 }
 
 template <class P, class F>

@@ -26,13 +26,12 @@ SlamSystem::SlamSystem(const SlamConfig& config, const PinholeCamera& camera)
   ctx_->init(camera, cfg_.system.bf, close, cfg_.orb.n_levels, cfg_.orb.scale_factor);
   ctx_->depth_edge_window = cfg_.system.depth_edge_window;
   ctx_->depth_edge_ratio = cfg_.system.depth_edge_ratio;
-  mapper_ = std::make_unique<LocalMapper>(map_, cfg_.mapper, !cfg_.system.deterministic);
+  mapper_ = std::make_unique<LocalMapper>(map_, cfg_.mapper, /*threaded=*/true);
   tracker_ = std::make_unique<Tracker>(map_, *mapper_, cfg_.tracker, cfg_.pose_optimizer);
   if (cfg_.loop.enabled) {
     auto voc = std::make_shared<const OrbVocabulary>(OrbVocabulary::load(cfg_.loop.vocabulary));
     vocabulary_checksum_ = voc->checksum();
-    loop_ = std::make_unique<loop::LoopClosing>(map_, *mapper_, std::move(voc), cfg_.loop,
-                                                !cfg_.system.deterministic);
+    loop_ = std::make_unique<loop::LoopClosing>(map_, std::move(voc), cfg_.loop);
     mapper_->setListener(loop_.get());
     tracker_->setCandidateSource(loop_.get());
   }
@@ -93,6 +92,11 @@ FrameOutcome SlamSystem::process(const RGBDFrame& frame) {
 
   FrameOutcome out;
   out.features = feats;
+  // The fixed schedule that makes runs repeat: the map this frame is tracked
+  // in is the one LocalMapper's schedule defines for it, whatever the timing.
+  const long frame_id = tracker_->nextFrameId();
+  mapper_->waitForFrame(frame_id);
+  const auto tw = Clock::now();
   {
     // Three phases: the pose from the map; the preprocessor's revision of
     // the flags under that pose (ObservationPreprocessor::frameTracked);
@@ -117,35 +121,25 @@ FrameOutcome SlamSystem::process(const RGBDFrame& frame) {
     }
     out.track = tracker_->finishFrame(changed);
   }
+  mapper_->frameTracked(frame_id);
   const auto t3 = Clock::now();
-  if (cfg_.system.deterministic) mapper_->processPending();
-  const auto t4 = Clock::now();
   times_.add("extract", msBetween(tp, t1));
   if (preprocessor_) times_.add("preprocess", msBetween(t0, tp) + msBetween(t1, t2));
-  times_.add("track", msBetween(t2, t3));
-  if (cfg_.system.deterministic) times_.add("mapping_inline", msBetween(t3, t4));
-  times_.add("frame_total", msBetween(t0, t4));
+  times_.add("mapping_wait", msBetween(t2, tw));
+  times_.add("track", msBetween(tw, t3));
+  times_.add("frame_total", msBetween(t0, t3));
   return out;
 }
 
 void SlamSystem::finish() {
   if (finished_) return;
   finished_ = true;
-  try {  // flush() rethrows a worker thread's exception
+  try {  // flush() rethrows the mapping thread's exception
     mapper_->flush();
-    if (loop_) {
-      // A loop closure pauses the mapper, which may then map queued keyframes
-      // that the loop closer checks in turn.
-      loop_->flush();
-      mapper_->flush();
-      loop_->flush();
-    }
   } catch (...) {
     mapper_->stop();  // no worker may outlive a failed run
-    if (loop_) loop_->stop();
     throw;
   }
-  if (loop_) loop_->stop();
   mapper_->stop();
   if (cfg_.system.final_global_ba && !localize_only_) {
     BAParams ba = cfg_.mapper.ba;

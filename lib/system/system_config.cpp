@@ -41,6 +41,8 @@ void validateSlamConfig(const SlamConfig& c, const std::string& path) {
                            "0 <= carry_frames <= 255, 0 < max_map_inliers_flagged <= 1 required");
   if (d.detector_interval < 1)
     throw InputError(path, "dynamic.detector: interval_frames >= 1 required");
+  if (c.mapper.ba_lag_frames < 1)
+    throw InputError(path, "local_mapper: ba_lag_frames >= 1 required");
   if (!(d.box_mask.depth_band_m > 0) || !(d.box_mask.connected_step >= 0) ||
       d.box_mask.connected_step > 1)
     throw InputError(path, "dynamic.box_mask: depth_band_m > 0, 0 <= connected_step <= 1 required");

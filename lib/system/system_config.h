@@ -18,9 +18,6 @@
 namespace dynslam {
 
 struct SystemParams {
-  /// Local mapping in the tracking thread, so the same input always gives the
-  /// same trajectory (slower: tracking waits for mapping).
-  bool deterministic = false;
   /// Virtual stereo baseline x fx for the depth residual (px*m).
   double bf = 40.0;
   /// Depth (m) below which a keypoint's depth is trusted ("close" point).

@@ -468,7 +468,6 @@ bool Tracker::needNewKeyFrame() const {
   const std::size_t n_kfs = map_.keyFrameCount();
   const int min_obs = n_kfs <= 2 ? 1 : 2;  // keyframes observing a point
   const int ref_matches = ref_kf_ ? ref_kf_->trackedPoints(min_obs) : 0;
-  const bool idle = sink_.idle();
   const FeatureSet& f = cur_.f();
   int close_tracked = 0, close_untracked = 0;
   for (std::size_t i = 0; i < f.size(); ++i) {
@@ -480,13 +479,16 @@ bool Tracker::needNewKeyFrame() const {
       close_tracked < p_.kf_close_tracked_max && close_untracked > p_.kf_close_untracked_min;
   const double ratio = n_kfs < 2 ? 0.4 : p_.kf_ref_ratio;
   const bool c1a = cur_.id >= last_kf_frame_id_ + p_.max_frames_between_kf;
-  const bool c1b = cur_.id >= last_kf_frame_id_ + p_.min_frames_between_kf && idle;
+  // The spacing grows with the map, as the mapper's work per keyframe does
+  // (its BA window fills): a young map takes keyframes as soon as tracking
+  // weakens.
+  const long spacing = std::min<long>(p_.min_frames_between_kf, static_cast<long>(n_kfs / 4));
+  const bool c1b = cur_.id >= last_kf_frame_id_ + spacing;
   const bool c1c = inliers_ < ref_matches * 0.25 || need_close;
   const bool c2 = (inliers_ < ref_matches * ratio || need_close) && inliers_ > 15;
   logf(LogLevel::kTrace, "track", "kf decision: inliers %d ref_matches %d close %d/%d c1a %d c1b %d c1c %d c2 %d",
                  inliers_, ref_matches, close_tracked, close_untracked, c1a, c1b, c1c, c2);
-  if (!((c1a || c1b || c1c) && c2)) return false;
-  return idle || sink_.queued() < 3;
+  return (c1a || c1b || c1c) && c2;
 }
 
 void Tracker::createKeyFrame() {

@@ -25,7 +25,10 @@ struct TrackerParams {
   int min_inliers_local = 30;         ///< to accept the frame as tracked
   int max_local_keyframes = 80;
   int max_frames_between_kf = 30;     ///< a keyframe at least this often (frames)
-  int min_frames_between_kf = 0;
+  /// ...and, once tracking weakens, at most this often, unless very weak
+  /// (a fixed rule, not "when the mapper is idle", so that runs repeat);
+  /// a young map less: one frame per 4 keyframes in the map, up to this.
+  int min_frames_between_kf = 5;
   double kf_ref_ratio = 0.75;         ///< new keyframe when tracked < ratio x reference's points
   int kf_close_tracked_max = 100;     ///< ...or when few close points are tracked
   int kf_close_untracked_min = 70;    ///< ...and many close points are not
@@ -75,6 +78,8 @@ class Tracker {
   TrackResult estimatePose(std::shared_ptr<const FeatureSet> features, std::size_t index,
                            double timestamp);
   TrackResult finishFrame(bool flags_changed);
+  /// The id the next estimatePose() gives its frame (keyframes' frame_id).
+  long nextFrameId() const { return next_frame_id_; }
   /// After estimatePose(): per keypoint, 1 = matched to a map point and an
   /// inlier of the pose.
   std::vector<uint8_t> currentMapInliers() const;

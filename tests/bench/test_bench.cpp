@@ -62,6 +62,7 @@ RunRecord fakeRun(const std::string& mode, int run, double ate_rmse, double ate_
   r.ok = true;
   r.fps = fps;
   r.peak_rss_mb = 100 + run;
+  r.outputs_crc = static_cast<uint32_t>(run);  // runs that differ
   r.times.frame_ms = frame_ms;
   r.times.track_ms = frame_ms;
   r.times.timestamps.assign(frame_ms.size(), 0.0);
@@ -141,6 +142,24 @@ TEST(BenchReport, MarkdownAndJsonShowMediansEtaAndFailures) {
   const std::string json = report.json();
   EXPECT_NE(json.find("\"failed_runs\": 1"), std::string::npos);
   EXPECT_NE(json.find("\"ate_rmse\": 0.6"), std::string::npos) << json;  // eta of detect+flow
+}
+
+// Runs that wrote the same results (equal output checksums) are called
+// identical, in the markdown's run count and in the JSON; one differing run,
+// or a single run, is not.
+TEST(BenchReport, IdenticalRunsAreSaidToBe) {
+  BenchResults res = fakeResults();
+  for (RunRecord& r : res.runs)
+    if (r.mode == "off") r.outputs_crc = 0xabcd;
+  const BenchReport same(res);
+  EXPECT_TRUE(same.summaries()[0].identical_outputs);
+  EXPECT_FALSE(same.summaries()[1].identical_outputs);
+  EXPECT_NE(same.markdown().find("| off | 3/3, identical | 0.5000 [0.4000–0.6000] |"), std::string::npos)
+      << same.markdown();
+  EXPECT_NE(same.markdown().find("| detect+flow | 2/3 | "), std::string::npos);
+  EXPECT_NE(same.json().find("\"identical_outputs\": true"), std::string::npos);
+  res.runs[2].outputs_crc = 0xabce;
+  EXPECT_FALSE(BenchReport(res).summaries()[0].identical_outputs);
 }
 
 // ------------------------------------------------ runner against `dynslam eval`

@@ -212,7 +212,7 @@ TEST(BenchJobsCli, EmitParallelCollectEqualsPlainBench) {
   const auto parallel = test::runShellSplit("parallel --version");
   ASSERT_EQ(parallel.exit_code, 0) << "GNU parallel not installed (scripts/install-deps.sh): "
                                    << parallel.err;
-  test::writeText(tmp / "det.yaml", "system:\n  deterministic: true\n");
+  test::writeText(tmp / "det.yaml", "system:\n  final_global_ba: true\n");
   const std::vector<std::string> common = {test::rpyDir(), "--modes", "off,flow", "--runs", "1",
                                            "--max-frames", "60", "--config", tmp / "det.yaml"};
   auto with = [&](std::vector<std::string> args) {

@@ -1,9 +1,8 @@
-// WorkQueue: order, flush, pause/resume, stop and the thread-less mode. The
+// WorkQueue: order, flush, stop and the thread-less mode. The
 // sleeps only give a wrongly running worker time to show itself; no test
 // depends on how fast anything runs.
 #include <gtest/gtest.h>
 
-#include <atomic>
 #include <chrono>
 #include <mutex>
 #include <thread>
@@ -43,49 +42,10 @@ TEST(WorkQueue, HandlesItemsInOrderAndFlushWaitsForTheLast) {
   EXPECT_EQ(q.size(), 0u);
 }
 
-TEST(WorkQueue, PauseHoldsTheWorkerUntilEveryPauseIsResumed) {
+TEST(WorkQueue, StopHandlesWhatIsQueued) {
   Recorder rec;
   WorkQueue<int> q([&](int v) { rec(v); }, true);
   q.start();
-  q.push(0);
-  q.flush();
-  q.pause();
-  q.pause();  // nested
-  for (int i = 1; i <= 3; ++i) q.push(i);
-  std::this_thread::sleep_for(50ms);
-  EXPECT_EQ(rec.get().size(), 1u);
-  EXPECT_EQ(q.size(), 3u);
-  EXPECT_FALSE(q.idle());
-  q.resume();
-  std::this_thread::sleep_for(50ms);
-  EXPECT_EQ(rec.get().size(), 1u);  // one pause still holds it
-  q.resume();
-  q.flush();
-  EXPECT_EQ(rec.get(), (std::vector<int>{0, 1, 2, 3}));
-}
-
-TEST(WorkQueue, PauseReturnsOnlyAfterTheItemInProgress) {
-  std::atomic<bool> started{false}, done{false};
-  WorkQueue<int> q(
-      [&](int) {
-        started = true;
-        std::this_thread::sleep_for(100ms);
-        done = true;
-      },
-      true);
-  q.start();
-  q.push(1);
-  while (!started) std::this_thread::sleep_for(1ms);
-  q.pause();
-  EXPECT_TRUE(done);
-  q.resume();
-}
-
-TEST(WorkQueue, StopHandlesWhatIsQueuedEvenWhilePaused) {
-  Recorder rec;
-  WorkQueue<int> q([&](int v) { rec(v); }, true);
-  q.start();
-  q.pause();
   for (int i = 0; i < 3; ++i) q.push(i);
   q.stop();
   EXPECT_EQ(rec.get(), (std::vector<int>{0, 1, 2}));
@@ -99,8 +59,6 @@ TEST(WorkQueue, WithoutAThreadItemsWaitForTryPop) {
   q.push(7);
   q.push(8);
   q.flush();  // returns at once
-  q.pause();  // no-ops
-  q.resume();
   std::this_thread::sleep_for(20ms);
   EXPECT_TRUE(rec.get().empty());
   EXPECT_EQ(q.size(), 2u);

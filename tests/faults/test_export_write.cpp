@@ -22,7 +22,7 @@ class ExportFaults : public ::testing::Test {
     const MiniTum tum = makeMiniTum(scratch_->path(), 30);
     run_dir_ = *scratch_ / "run";
     const SplitCommandResult r =
-        runDynslamSplit({"run", tum.dir, "-o", run_dir_, "--mode", "off", "--deterministic"});
+        runDynslamSplit({"run", tum.dir, "-o", run_dir_, "--mode", "off"});
     ASSERT_EQ(r.exit_code, 0) << r.err;
   }
   static void TearDownTestSuite() {

@@ -14,7 +14,7 @@ TEST(TruncatedImages, RunRejectsTruncatedJpeg) {
   const MiniTum tum = makeMiniTum(d.path(), 6);
   truncateFile(tum.rgb[3], 0.5);
   const SplitCommandResult r =
-      runDynslamSplit({"run", tum.dir, "-o", d / "out", "--mode", "off", "--deterministic"});
+      runDynslamSplit({"run", tum.dir, "-o", d / "out", "--mode", "off"});
   expectHandledFault(r, 1, tum.rgb[3]);
   EXPECT_FALSE(fs::exists(d / "out/trajectory.txt"));
 }
@@ -24,7 +24,7 @@ TEST(TruncatedImages, RunRejectsTruncatedDepthPng) {
   const MiniTum tum = makeMiniTum(d.path(), 6);
   truncateFile(tum.depth[2], 0.5);
   const SplitCommandResult r =
-      runDynslamSplit({"run", tum.dir, "-o", d / "out", "--mode", "off", "--deterministic"});
+      runDynslamSplit({"run", tum.dir, "-o", d / "out", "--mode", "off"});
   expectHandledFault(r, 1, tum.depth[2]);
   EXPECT_FALSE(fs::exists(d / "out/trajectory.txt"));
 }
@@ -62,7 +62,7 @@ TEST(TruncatedImages, RunRejectsTruncatedExternalRawlogImage) {
   ASSERT_FALSE(rgb.empty()) << ::testing::PrintToString(entriesIn(d / "x_Images"));
   truncateFile(rgb, 0.5);
   const SplitCommandResult r = runDynslamSplit(
-      {"run", d / "x.rawlog", "-o", d / "out", "--mode", "off", "--deterministic"});
+      {"run", d / "x.rawlog", "-o", d / "out", "--mode", "off"});
   expectHandledFault(r, 1, fs::path(rgb).filename().string());
   EXPECT_FALSE(fs::exists(d / "out/trajectory.txt"));
 }
@@ -78,7 +78,7 @@ TEST(TruncatedImages, RunRejectsTruncatedExternalRawlogDepth) {
   ASSERT_FALSE(depth.empty()) << ::testing::PrintToString(entriesIn(d / "x_Images"));
   truncateFile(depth, 0.5);
   const SplitCommandResult r = runDynslamSplit(
-      {"run", d / "x.rawlog", "-o", d / "out", "--mode", "off", "--deterministic"});
+      {"run", d / "x.rawlog", "-o", d / "out", "--mode", "off"});
   expectHandledFault(r, 1, fs::path(depth).filename().string());
   EXPECT_FALSE(fs::exists(d / "out/trajectory.txt"));
 }

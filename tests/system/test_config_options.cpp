@@ -88,7 +88,7 @@ TEST(ConfigOptions, ShippedConfigHoldsExactlyTheCodeDefaults) {
 TEST(ConfigOptions, DumpReadsBackToTheSameValues) {
   TempDir d;
   writeText(d / "odd.yaml",
-            "system:\n  bf: 0.1\n  deterministic: true\n"
+            "system:\n  bf: 0.1\n  final_global_ba: false\n"
             "orb:\n  scale_factor: 1.15\n  n_features: 777\n"
             "dynamic:\n  max_map_inliers_flagged: 0.3333333333333333\n"
             "  detector:\n    model: models/m.onnx\n    dynamic_classes: [person, dog]\n"
@@ -107,7 +107,7 @@ TEST(ConfigOptions, DumpReadsBackToTheSameValues) {
   const SlamConfig back = loadSlamConfig(d / "elsewhere/used.yaml");
   EXPECT_EQ(withoutComments(slamConfigYaml(back)), withoutComments(dump));
   EXPECT_EQ(back.system.bf, 0.1);
-  EXPECT_TRUE(back.system.deterministic);
+  EXPECT_FALSE(back.system.final_global_ba);
   EXPECT_EQ(back.orb.scale_factor, 1.15f);
   EXPECT_EQ(back.orb.n_features, 777);
   EXPECT_EQ(back.dynamic.max_map_inliers_flagged, 1.0 / 3.0);
@@ -176,19 +176,17 @@ TEST(ConfigCli, PrintsTheEffectiveConfig) {
   EXPECT_NE(missing.output.find(d / "none.yaml"), std::string::npos) << missing.output;
 }
 
-// A deterministic run's config_used.yaml, given back with --config (and no
-// --deterministic: the file says so), repeats the run byte for byte.
+// A run's config_used.yaml, given back with --config, repeats the run byte
+// for byte (runs repeat, issue 17).
 TEST(ConfigUsed, GivenBackReproducesTheRun) {
   TempDir d;
   const CommandResult a = runDynslam({"run", rpyDir(), "-o", d / "a", "--max-frames", "30",
-                                      "--mode", "detect+flow", "--deterministic"});
+                                      "--mode", "detect+flow"});
   ASSERT_EQ(a.exit_code, 0) << a.output;
   const std::string used = d / ("a/" + std::string(kConfigUsedFile));
   const std::string text = readText(used);
-  EXPECT_NE(text.find("  deterministic: true\n"), std::string::npos) << text;
-  // The whole config: the shipped file's values with the override applied.
-  SlamConfig expected = loadSlamConfig(shippedConfig());
-  expected.system.deterministic = true;
+  // The whole config: the shipped file's values.
+  const SlamConfig expected = loadSlamConfig(shippedConfig());
   EXPECT_EQ(withoutComments(text), withoutComments(slamConfigYaml(expected)));
 
   const CommandResult b =

@@ -43,7 +43,6 @@ struct CullingRun {
 
 CullingRun run(int cull_dynamic_hits) {
   SlamConfig cfg = loadSlamConfig(defaultSlamConfigPath());
-  cfg.system.deterministic = true;
   cfg.loop.enabled = false;
   cfg.tracker.cull_dynamic_hits = cull_dynamic_hits;
   const auto source = openSequence(test::rpyDir(), "");

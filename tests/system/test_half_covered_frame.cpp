@@ -104,7 +104,6 @@ struct CoveredRun {
 CoveredRun run(Stage stage, bool covered) {
   const SyntheticData& data = twoLapData();
   SlamConfig cfg = loadSlamConfig(defaultSlamConfigPath());
-  cfg.system.deterministic = true;
   cfg.loop.enabled = false;
   if (stage != Stage::kNone) cfg.orb.n_features = cfg.dynamic.orb_features;  // as `dynslam run` does
   SlamSystem slam(cfg, data.camera());

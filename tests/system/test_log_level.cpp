@@ -11,11 +11,11 @@ using namespace dynslam::test;
 TEST(LogLevelCli, TraceShowsPerFrameLinesDefaultDoesNot) {
   TempDir d;
   const auto quiet = runDynslamSplit(
-      {"run", rpyDir(), "-o", d / "a", "--mode", "off", "--max-frames", "3", "--deterministic"});
+      {"run", rpyDir(), "-o", d / "a", "--mode", "off", "--max-frames", "3"});
   ASSERT_EQ(quiet.exit_code, 0) << quiet.err;
   EXPECT_EQ(quiet.err.find("[track]"), std::string::npos) << quiet.err;
   const auto trace = runDynslamSplit({"run", rpyDir(), "-o", d / "b", "--mode", "off",
-                                      "--max-frames", "3", "--deterministic", "--log-level", "trace"});
+                                      "--max-frames", "3", "--log-level", "trace"});
   ASSERT_EQ(trace.exit_code, 0) << trace.err;
   // Frame 0 initialises the map; frames 1 and 2 are tracked.
   EXPECT_NE(trace.err.find("[track] frame 2 state "), std::string::npos) << trace.err;

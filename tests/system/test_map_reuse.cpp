@@ -75,10 +75,10 @@ TEST(MapReuse, SecondPassRelocalisesIntoTheFirstPassMap) {
   writeTwicePlayed(seq, kFrames);
 
   const std::string once = d / "once", twice = d / "twice";
-  CommandResult r = runDynslam({"run", seq, "--mode", "off", "-o", once, "--deterministic", "--max-frames",
+  CommandResult r = runDynslam({"run", seq, "--mode", "off", "-o", once, "--max-frames",
                                 std::to_string(kFrames)});
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  r = runDynslam({"run", seq, "--mode", "off", "-o", twice, "--deterministic"});
+  r = runDynslam({"run", seq, "--mode", "off", "-o", twice});
   ASSERT_EQ(r.exit_code, 0) << r.output;
 
   cv::FileStorage report(twice + "/report.json", cv::FileStorage::READ | cv::FileStorage::FORMAT_JSON);

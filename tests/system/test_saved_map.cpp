@@ -101,7 +101,7 @@ class SavedMap : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
     dir_ = new TempDir;
-    const CommandResult r = runDynslam({"run", rpyDir(), "--mode", "off", "--deterministic", "--max-frames",
+    const CommandResult r = runDynslam({"run", rpyDir(), "--mode", "off", "--max-frames",
                                         std::to_string(kFrames), "--save-map", "-o", mapping()});
     ASSERT_EQ(r.exit_code, 0) << r.output;
   }
@@ -172,7 +172,7 @@ std::string secondSession(const std::string& dir, const std::string& map_file) {
   const std::string second = dir + "/second";
   if (!fs::exists(second + "/report.json")) {
     const CommandResult r =
-        runDynslam({"run", rpyDir(), "--mode", "off", "--deterministic", "--max-frames",
+        runDynslam({"run", rpyDir(), "--mode", "off", "--max-frames",
                     std::to_string(kFrames), "--map", map_file, "--save-map", "-o", second});
     EXPECT_EQ(r.exit_code, 0) << r.output;
   }

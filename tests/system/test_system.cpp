@@ -3,7 +3,7 @@
 // the sequence's groundtruth, determinism, rawlog input, and bad input.
 //
 // Measured (Release, 2-core dev machine, default configs/dynslam.yaml, 2026-11-22):
-//   100 frames --deterministic: ATE RMSE 0.027 m (non-deterministic runs
+//   100 frames (then with --deterministic): ATE RMSE 0.027 m (threaded runs
 //   0.027-0.029 m), all 100 tracked, ~2 s per run; groundtruth turns 14 deg
 //   between the first and last frame, estimated turn off by 1.0-3.6 deg
 //   (depending on the lead's in-progress tuning; RPE 1 s rotation RMSE is
@@ -18,6 +18,9 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <atomic>
+#include <thread>
+#include <vector>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -129,7 +132,6 @@ TEST(SystemRpy, First100FramesThroughLibrary) {
   o.input = rpyDir();
   o.out_dir = d / "out";
   o.max_frames = 100;
-  o.deterministic = 1;
   const RunSummary s = runSlam(o);
   EXPECT_EQ(s.frames, 100u);
   EXPECT_EQ(s.tracked, 100u);
@@ -171,21 +173,46 @@ TEST(SystemRpy, First100FramesThroughLibrary) {
   EXPECT_LT(err, kTurnErrorBound);
 }
 
-// Two --deterministic runs of the binary give byte-identical trajectories.
-TEST(SystemRpy, DeterministicRunsAreIdentical) {
+// Runs repeat (issue 17): the same 60 frames in the default mode, once on
+// an idle process and once while two threads keep both cores busy, give
+// byte-identical outputs: poses, keyframes, map points and keyframe masks.
+// Fails when tracking reads the map while the mapper changes it, when the
+// keyframe decision asks whether the mapper is idle, or when the detector's
+// boxes arrive whenever its thread is done.
+TEST(SystemRpy, RunsRepeatByteForByteUnderLoad) {
   TempDir d;
-  std::string traj[2];
-  for (int k = 0; k < 2; ++k) {
-    const std::string out = d / ("run" + std::to_string(k));
-    const CommandResult r =
-        runDynslam({"run", rpyDir(), "--mode", "off", "-o", out, "--max-frames", "60", "--deterministic"});
+  auto runOnce = [&](const std::string& out) {
+    const CommandResult r = runDynslam({"run", rpyDir(), "-o", out, "--max-frames", "60"});
     ASSERT_EQ(r.exit_code, 0) << r.output;
     EXPECT_TRUE(contains(r.output, "60 frames, 60 tracked")) << r.output;
-    traj[k] = readText(out + "/trajectory.txt");
+  };
+  runOnce(d / "quiet");
+  {
+    std::atomic<bool> stop{false};
+    std::vector<std::thread> busy;
+    for (int k = 0; k < 2; ++k)
+      busy.emplace_back([&] {
+        volatile double x = 1;
+        while (!stop.load(std::memory_order_relaxed)) x = x * 1.0000001 + 1e-9;
+      });
+    runOnce(d / "busy");
+    stop = true;
+    for (auto& t : busy) t.join();
   }
-  ASSERT_FALSE(traj[0].empty());
-  EXPECT_EQ(traj[0], traj[1]);
-  checkRun(d / "run0", 60);
+  for (const char* f : {"trajectory.txt", "keyframes.txt", "map_points.txt"}) {
+    const std::string a = readText(d / ("quiet/" + std::string(f)));
+    ASSERT_FALSE(a.empty()) << f;
+    EXPECT_EQ(a, readText(d / ("busy/" + std::string(f)))) << f;
+  }
+  std::size_t masks = 0;
+  for (const auto& e : fs::directory_iterator(d / "quiet/dynamic_masks")) {
+    ++masks;
+    EXPECT_EQ(readText(e.path()), readText(d / ("busy/dynamic_masks/" + e.path().filename().string())))
+        << e.path();
+  }
+  EXPECT_GT(masks, 0u);
+  // (Accuracy is the other tests' business: on these 60 frames the default
+  // mode's ATE is 0.054 m against 0.023 m in mode off, issue 14's note.)
 }
 
 // The same frames read from a converted rawlog track as well as from the
@@ -199,7 +226,7 @@ TEST(SystemRpy, RawlogInput) {
   ASSERT_TRUE(fs::is_regular_file(rawlog));
 
   const std::string out = d / "out";
-  const CommandResult r = runDynslam({"run", rawlog, "--mode", "off", "-o", out, "--deterministic"});
+  const CommandResult r = runDynslam({"run", rawlog, "--mode", "off", "-o", out});
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_TRUE(contains(r.output, "40 frames, 40 tracked")) << r.output;
   const double rmse = checkRun(out, 40);
@@ -213,7 +240,7 @@ TEST(SystemRpy, RawlogInput) {
 
   const std::string out_folder = d / "out_folder";
   const CommandResult f =
-      runDynslam({"run", rpyDir(), "--mode", "off", "-o", out_folder, "--max-frames", "40", "--deterministic"});
+      runDynslam({"run", rpyDir(), "--mode", "off", "-o", out_folder, "--max-frames", "40"});
   ASSERT_EQ(f.exit_code, 0) << f.output;
   const std::string from_rawlog = poseLines(out + "/trajectory.txt");
   EXPECT_FALSE(from_rawlog.empty());
@@ -294,8 +321,13 @@ TEST(SystemBadInput, DetectorIntervalBelowOne) {
     expectConfigRejected("dynamic:\n  detector:\n    interval_frames: " + v + "\n", "interval_frames");
 }
 
+TEST(SystemBadInput, BaLagBelowOne) {
+  for (const std::string v : {"0", "-1"})
+    expectConfigRejected("local_mapper:\n  ba_lag_frames: " + v + "\n", "ba_lag_frames");
+}
+
 TEST(SystemBadInput, AsyncDetectorIsNoLongerAKey) {
-  // Whether the detector runs in its own thread follows --deterministic.
+  // The detector always runs in its own thread, on a fixed schedule.
   expectConfigRejected("dynamic:\n  async_detector: false\n", "async_detector");
 }
 
@@ -358,7 +390,7 @@ TEST(SystemDynamic, DetectAndFlowOnStaticSequence) {
   for (int run = 0; run < 2; ++run) {
     const std::string out = d / ("out" + std::to_string(run));
     const CommandResult r = runDynslam({"run", rpyDir(), "-o", out, "--mode", "detect+flow",
-                                        "--deterministic", "--max-frames", "30"});
+                                        "--max-frames", "30"});
     ASSERT_EQ(r.exit_code, 0) << r.output;
     cv::FileStorage report(out + "/report.json", cv::FileStorage::READ | cv::FileStorage::FORMAT_JSON);
     ASSERT_TRUE(report.isOpened());
@@ -416,7 +448,7 @@ TEST(SystemBadInput, ConfigRejectsLossyNumbers) {
   TempDir d;
   const std::string cfg = d / "lossy.yaml";
   for (const char* text : {"orb:\n  n_features: 1000.7\n", "system:\n  prefetch_frames: 2.5\n",
-                           "system:\n  deterministic: 3\n"}) {
+                           "system:\n  final_global_ba: 3\n"}) {
     writeText(cfg, text);
     EXPECT_THROW(loadSlamConfig(cfg), InputError) << text;
   }
@@ -454,7 +486,7 @@ struct GapRun {
 GapRun runGap(const TempDir& d, std::size_t from, std::size_t to) {
   const std::string seq = gapSequence(d, from, to);
   const std::string out = d / "out";
-  const CommandResult r = runDynslam({"run", seq, "--mode", "off", "-o", out, "--deterministic"});
+  const CommandResult r = runDynslam({"run", seq, "--mode", "off", "-o", out});
   EXPECT_EQ(r.exit_code, 0) << r.output;
   GapRun g;
   g.est = dynslam::readTumTrajectory(out + "/trajectory.txt");
@@ -575,7 +607,7 @@ TEST(SystemDynamic, ScoresAgainstTrueMasksOfAComposite) {
   auto scores = [&](const std::string& mode) {
     const std::string out = d / ("out_" + mode);
     const CommandResult r =
-        runDynslam({"run", seq, "-o", out, "--mode", mode, "--deterministic"});
+        runDynslam({"run", seq, "-o", out, "--mode", mode});
     EXPECT_EQ(r.exit_code, 0) << r.output;
     cv::FileStorage report(out + "/report.json", cv::FileStorage::READ | cv::FileStorage::FORMAT_JSON);
     EXPECT_TRUE(report.isOpened());
@@ -615,10 +647,12 @@ TEST(SystemDynamic, ScoresAgainstTrueMasksOfAComposite) {
   // The dynamic modes extract dynamic.orb_features (1500) keypoints instead
   // of orb.n_features (1000): more of them fall on the walkers.
   EXPECT_GT(walkers, walkers_off);
-  // (0.23 on these 30 frames of far walkers; 0.4 before the tracks' fit
-  // pre-flagged: the judgement drops some walkers the fit pre-flagged. The
-  // whole sequence's recall is on docs/benchmarks.md.)
-  EXPECT_GT(recall, 0.2);
+  // (0.104 on these 30 frames of far walkers, the same every run since runs
+  // repeat; threaded runs before that gave 0.12-0.23 here, 0.4 before the
+  // tracks' fit pre-flagged. Mode flow alone catches few far walkers in 30
+  // frames; the whole sequence's recall is on docs/benchmarks.md. 0 when
+  // the flow path flags nothing.)
+  EXPECT_GT(recall, 0.07);
   EXPECT_LT(false_rate, 0.10);
 }
 

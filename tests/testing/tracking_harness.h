@@ -20,7 +20,8 @@
 
 namespace dynslam::test {
 
-/// configs/dynslam.yaml's parameters, deterministic (mapping in line).
+/// configs/dynslam.yaml's parameters, keyframes whenever tracking weakens
+/// (tracker.min_frames_between_kf 0); the harness maps each keyframe in line.
 SlamConfig harnessConfig();
 
 class TrackingHarness : public KeyFrameSink {
@@ -51,8 +52,6 @@ class TrackingHarness : public KeyFrameSink {
 
   // KeyFrameSink: forwards to the mapper after on_keyframe.
   void insertKeyFrame(KeyFrame* kf) override;
-  bool idle() const override { return mapper_->idle(); }
-  std::size_t queued() const override { return mapper_->queued(); }
 
  private:
   SlamConfig cfg_;
