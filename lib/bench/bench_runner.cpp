@@ -80,10 +80,10 @@ RunRecord readRunRecord(const BenchPlan& plan, const PlannedRun& run) {
   r.relocalisations = jsonNumberAt(report, "relocalisation_count");
   r.loops_closed = jsonNumberAt(report, "loop_closing.loops_closed");
   r.times = readFrameTimes(layout.frameTimes());
-  std::string outputs;
+  std::vector<std::string> outputs;
   for (const std::string& f : {layout.trajectory(), layout.keyFrames(), layout.mapPoints()})
-    if (fileExists(f)) outputs += readTextFile(f);
-  r.outputs_crc = crc32Of(outputs);
+    if (fileExists(f)) outputs.push_back(f);
+  r.outputs_crc = crc32OfFiles(outputs);
   if (!seq.groundtruth.empty()) {
     // Exactly `dynslam eval GT EST --seq SEQ` (coverage needs a TUM folder),
     // except that a --max-frames run's coverage counts only the frames it was given.

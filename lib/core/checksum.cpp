@@ -29,16 +29,20 @@ uint32_t crc32Of(const std::string& bytes, std::size_t offset) {
   return static_cast<uint32_t>(update(crc32(0L, Z_NULL, 0), bytes.data() + offset, bytes.size() - offset));
 }
 
-uint32_t crc32OfFile(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path, "cannot be read");
+uint32_t crc32OfFile(const std::string& path) { return crc32OfFiles({path}); }
+
+uint32_t crc32OfFiles(const std::vector<std::string>& paths) {
   uLong crc = crc32(0L, Z_NULL, 0);
   std::vector<char> buf(1 << 20);
-  while (in) {
-    in.read(buf.data(), static_cast<std::streamsize>(buf.size()));
-    crc = update(crc, buf.data(), static_cast<std::size_t>(in.gcount()));
+  for (const std::string& path : paths) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw InputError(path, "cannot be read");
+    while (in) {
+      in.read(buf.data(), static_cast<std::streamsize>(buf.size()));
+      crc = update(crc, buf.data(), static_cast<std::size_t>(in.gcount()));
+    }
+    if (in.bad()) throw InputError(path, "read failed");
   }
-  if (in.bad()) throw InputError(path, "read failed");
   return static_cast<uint32_t>(crc);
 }
 

@@ -56,8 +56,7 @@ void DetectorThread::loop() {
 
 void DetectorThread::submit(const cv::Mat& bgr, long frame) {
   error_.rethrowIfFailed();
-  if (any_submitted_ && frame - last_submitted_ < interval_) return;
-  any_submitted_ = true;
+  if (last_submitted_ && frame - *last_submitted_ < interval_) return;
   last_submitted_ = frame;
   Job job;
   job.frame = frame;

@@ -10,6 +10,7 @@
 #include <cstddef>
 #include <deque>
 #include <mutex>
+#include <optional>
 #include <thread>
 #include <vector>
 
@@ -39,7 +40,6 @@ class DetectorThread {
   bool takeDue(long now, std::vector<Detection>& boxes, long& frame);
   /// Detections run so far.
   std::size_t runs() const;
-  int interval() const { return interval_; }
 
  private:
   struct Job {
@@ -52,8 +52,7 @@ class DetectorThread {
 
   YoloDetector detector_;
   const int interval_;
-  long last_submitted_ = 0;
-  bool any_submitted_ = false;
+  std::optional<long> last_submitted_;  ///< the last frame queued
   mutable std::mutex m_;
   std::condition_variable cv_;
   std::deque<Job> jobs_;    ///< queued frames in order; the done ones first

@@ -95,20 +95,21 @@ LocalMapper::Stats LocalMapper::stats() const {
 }
 
 void LocalMapper::processKeyFrame(KeyFrame* kf) {
-  // A failed step (an exception) releases a tracker waiting for it; the
-  // queue keeps the error for the owner's next call.
-  struct Release {
-    LocalMapper& m;
-    bool ok = false;
-    ~Release() {
-      if (ok) return;
-      {
-        std::lock_guard<std::mutex> lk(m.sync_m_);
-        m.failed_ = true;
-      }
-      m.sync_cv_.notify_all();
+  try {
+    mapKeyFrame(kf);
+  } catch (...) {
+    // Releases a tracker waiting for this step; the queue keeps the error
+    // for the owner's next call.
+    {
+      std::lock_guard<std::mutex> lk(sync_m_);
+      failed_ = true;
     }
-  } release{*this};
+    sync_cv_.notify_all();
+    throw;
+  }
+}
+
+void LocalMapper::mapKeyFrame(KeyFrame* kf) {
   const auto t0 = SteadyClock::now();
   std::unique_ptr<MapBAProblem> problem;
   {  // phase A
@@ -151,7 +152,6 @@ void LocalMapper::processKeyFrame(KeyFrame* kf) {
     ++done_;
   }
   sync_cv_.notify_all();
-  release.ok = true;
   std::lock_guard<std::mutex> lk(stats_mutex_);
   stats_.keyframes_processed++;
   stats_.step_ms.push_back(msSince(t0));

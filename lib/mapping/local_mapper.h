@@ -96,7 +96,10 @@ class LocalMapper : public KeyFrameSink {
   Stats stats() const;
 
  private:
+  /// The queue's handler: mapKeyFrame, and a failure made visible to a
+  /// waiting tracker.
   void processKeyFrame(KeyFrame* kf);
+  void mapKeyFrame(KeyFrame* kf);
   void addObservations(KeyFrame* kf);
   void cullRecentPoints(KeyFrame* kf);
   void createNewPoints(KeyFrame* kf);

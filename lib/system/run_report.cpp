@@ -4,8 +4,6 @@
 #include <vector>
 
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 
 #include "core/checksum.h"
 #include "core/json_writer.h"
@@ -22,13 +20,6 @@ void writeStats(JsonWriter& w, const std::string& key, const std::vector<double>
   writeSummaryStatsJson(w, key, s, "count", s.count);
 }
 
-std::string fileText(const std::filesystem::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
 }  // namespace
 
 RunIdentity runIdentity(const std::string& config_used, const std::string& input) {
@@ -37,10 +28,10 @@ RunIdentity runIdentity(const std::string& config_used, const std::string& input
   id.build = crc32Text(crc32OfFile("/proc/self/exe"));
   namespace fs = std::filesystem;
   if (fs::is_directory(input)) {
-    std::string lists;
+    std::vector<std::string> lists;
     for (const char* name : {"rgb.txt", "depth.txt"})
-      if (fs::exists(fs::path(input) / name)) lists += fileText(fs::path(input) / name);
-    id.input = crc32Text(crc32Of(lists));
+      if (fs::exists(fs::path(input) / name)) lists.push_back(fs::path(input) / name);
+    id.input = crc32Text(crc32OfFiles(lists));
   } else {
     id.input = crc32Text(crc32OfFile(input));
   }
