@@ -1,7 +1,5 @@
 #include "mapexport/run_directory.h"
 
-#include <mrpt/containers/yaml.h>
-
 #include <opencv2/imgcodecs.hpp>
 
 #include <cmath>
@@ -13,6 +11,7 @@
 #include "core/atomic_file.h"
 #include "core/errors.h"
 #include "core/json_writer.h"
+#include "core/run_info.h"
 #include "core/run_layout.h"
 #include "core/timing.h"
 #include "mapexport/dense_map_config.h"
@@ -30,31 +29,16 @@ RunDirectory readRunDirectory(const std::string& dir) {
   if (!fileExists(run.runInfoPath())) throw InputError(run.runInfoPath(), "file not found");
   if (!fileExists(run.keyframesPath())) throw InputError(run.keyframesPath(), "file not found");
 
-  mrpt::containers::yaml info;
-  try {
-    info = mrpt::containers::yaml::FromFile(run.runInfoPath());
-  } catch (const std::exception& e) {
-    throw InputError(run.runInfoPath(), std::string("cannot parse YAML: ") + e.what());
-  }
-  auto text = [&](const char* key) -> std::string {
-    if (!info.isMap() || !info.has(key) || info[key].isNullNode()) return "";
-    try {
-      return info[key].as<std::string>();
-    } catch (const std::exception&) {
-      throw InputError(run.runInfoPath(), std::string("key '") + key + "' is not a string");
-    }
-  };
+  const RunInfo info = readRunInfo(run.runInfoPath());
   // A relative path is resolved against the run folder if it exists there.
-  auto path = [&](const char* key) {
-    const std::string p = text(key);
+  auto resolved = [&](const std::string& p) {
     if (!p.empty() && fs::path(p).is_relative() && fs::exists(fs::path(dir) / p))
       return (fs::path(dir) / p).string();
     return p;
   };
-  run.input = path("input");
-  if (run.input.empty()) throw InputError(run.runInfoPath(), "missing key 'input'");
-  run.camera_config = path("camera_config");
-  run.sensor = text("sensor");
+  run.input = resolved(info.input);
+  run.camera_config = resolved(info.camera_config);
+  run.sensor = info.sensor;
   // What the run used, not the file it was read from (which may have changed since).
   if (const std::string used = run.layout().configUsed(); fileExists(used)) run.config = used;
   run.keyframes = readTumTrajectory(run.keyframesPath());

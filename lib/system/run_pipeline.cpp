@@ -3,21 +3,20 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <iomanip>
 #include <optional>
-#include <sstream>
 
 #include "core/atomic_file.h"
 #include "core/checksum.h"
 #include "core/errors.h"
 #include "core/interrupt.h"
-#include "core/stats.h"
-#include "core/staged_folder.h"
-#include "core/yaml_writer.h"
 #include "core/progress.h"
+#include "core/run_info.h"
 #include "core/run_layout.h"
+#include "core/staged_folder.h"
+#include "core/stats.h"
 #include "core/timing.h"
 #include "eval/keypoint_truth_scorer.h"
+#include "map/map_points_text.h"
 #include "rawlog/sequence_source.h"
 #include "system/frame_prefetcher.h"
 #include "system/run_recorder.h"
@@ -27,22 +26,6 @@
 namespace dynslam {
 
 namespace {
-
-void writeMapPoints(const std::string& path, const Map& map) {
-  writeFileAtomically(path, [&](std::ostream& os) {
-    os << "# x y z r g b (world frame, colour of the reference keyframe's pixel)\n";
-    os << std::setprecision(7);
-    for (MapPoint* mp : map.mapPoints()) {
-      cv::Vec3b bgr(200, 200, 200);
-      if (mp->ref_kf) {
-        auto it = mp->obs.find(mp->ref_kf);
-        if (it != mp->obs.end()) bgr = mp->ref_kf->f().colors[it->second];
-      }
-      os << mp->pos.x() << ' ' << mp->pos.y() << ' ' << mp->pos.z() << ' ' << int(bgr[2]) << ' '
-         << int(bgr[1]) << ' ' << int(bgr[0]) << '\n';
-    }
-  });
-}
 
 /// The latest sample of a stage if it was recorded for frame `i` (NaN if not).
 double latestStageMs(const StageTimes& times, const std::string& stage, std::size_t i) {
@@ -60,8 +43,9 @@ RunSummary runSlam(const RunOptions& opt) {
   if (opt.localize && opt.save_map)
     throw std::invalid_argument("--save-map with --localize: localisation does not change the map");
   const std::string config_path = opt.config_path.empty() ? defaultSlamConfigPath() : opt.config_path;
-  SlamConfig cfg = loadSlamConfig(config_path);
-  const std::string config_used = slamConfigYaml(cfg);  // before the mode's derived changes
+  const SlamConfig loaded_cfg = loadSlamConfig(config_path);
+  const std::string config_used = slamConfigYaml(loaded_cfg);  // before the mode's derived changes
+  const SlamConfig cfg = configForMode(loaded_cfg, opt.mode);
 
   std::unique_ptr<FrameSource> source = openSequence(opt.input, opt.camera_config, opt.sensor);
   std::size_t n = source->size();
@@ -70,9 +54,6 @@ RunSummary runSlam(const RunOptions& opt) {
   // complete (an earlier run there is replaced whole).
   StagedFolder staged(opt.out_dir, {kRunInfoFile, kReportFile, kTrajectoryFile});
 
-  // A third of the keypoints can land on movers and be dropped: the dynamic
-  // modes extract more so that tracking keeps enough static ones.
-  if (opt.mode != DynamicMode::kOff && cfg.dynamic.orb_features > 0) cfg.orb.n_features = cfg.dynamic.orb_features;
   SlamSystem slam(cfg, source->camera());
   LoadedMapReport loaded;
   if (!opt.map_path.empty()) {
@@ -85,10 +66,7 @@ RunSummary runSlam(const RunOptions& opt) {
   }
   std::unique_ptr<DynamicFeatureFilter> filter;
   if (opt.mode != DynamicMode::kOff) {
-    DynamicFilterParams dp = cfg.dynamic;
-    dp.use_detector = usesDetector(opt.mode);
-    dp.use_flow = usesFlow(opt.mode);
-    filter = std::make_unique<DynamicFeatureFilter>(dp, source->camera());
+    filter = std::make_unique<DynamicFeatureFilter>(cfg.dynamic, source->camera());
     slam.setPreprocessor(filter.get());
   }
   RunRecorder record;  // written with the results
@@ -156,25 +134,23 @@ RunSummary runSlam(const RunOptions& opt) {
       opt.localize && crc32Of(slam.encodeMap(), mapio::kMapHeaderBytes) == loaded.file.payload_crc;
   writeTumTrajectory(layout.trajectory(), slam.frameTrajectory(), header);
   writeTumTrajectory(layout.keyFrames(), slam.keyFrameTrajectory(), header + " (keyframes)");
-  writeMapPoints(layout.mapPoints(), slam.map());
+  writeMapPointsText(layout.mapPoints(), slam.map());
   record.writeFrameTimes(layout.frameTimes());
   record.writeKeyFrameMasks(layout);
   writeFileAtomically(layout.configUsed(), [&](std::ostream& os) { os << config_used; });
-  writeFileAtomically(layout.runInfo(), [&](std::ostream& os) {
-    os << "# Inputs of this run (read by `dynslam export`).\n"
-       << "input: " << yamlQuote(std::filesystem::absolute(opt.input).string()) << "\n"
-       << "camera_config: "
-       << yamlQuote(opt.camera_config.empty() ? "" : std::filesystem::absolute(opt.camera_config).string())
-       << "\n"
-       << "sensor: " << yamlQuote(opt.sensor) << "\n"
-       << "config: " << yamlQuote(std::filesystem::absolute(config_path).string()) << "\n"
-       << "mode: " << yamlQuote(dynamicModeName(opt.mode)) << "\n"
-       << "map: "
-       << yamlQuote(opt.map_path.empty() ? "" : std::filesystem::absolute(opt.map_path).string())
-       << "\n"
-       << "localize: " << (opt.localize ? "true" : "false") << "\n"
-       << "frames: " << n << "\n";
-  });
+  RunInfo info;
+  const auto absolute = [](const std::string& p) {
+    return p.empty() ? p : std::filesystem::absolute(p).string();
+  };
+  info.input = absolute(opt.input);
+  info.camera_config = absolute(opt.camera_config);
+  info.sensor = opt.sensor;
+  info.config = absolute(config_path);
+  info.mode = dynamicModeName(opt.mode);
+  info.map = absolute(opt.map_path);
+  info.localize = opt.localize;
+  info.frames = n;
+  writeRunInfo(layout.runInfo(), info);
 
   const std::string report = runReportJson({opt, config_path, source->camera().name,
                                             config_used, sum, record, slam,

@@ -4,14 +4,17 @@
 // leaves no partial results that could be mistaken for real ones. runSlam
 // only plays the frames; the owners of what it writes are RunRecorder
 // (per-frame and keyframe outputs), KeypointTruthScorer (eval/, ground-truth
-// mask scores), runReportJson (report.json) and RunLayout (core/run_layout.h,
-// the file names below, shared with `dynslam export` and `dynslam bench`).
+// mask scores), runReportJson (report.json), RunInfo (core/run_info.h,
+// run_info.yaml, read back by `dynslam export`), writeMapPointsText
+// (map/map_points_text.h), configForMode (system_config.h, what the mode
+// changes in the config) and RunLayout (core/run_layout.h, the file names
+// below, shared with `dynslam export` and `dynslam bench`).
 //
 // Run folder layout (read by `dynslam export` and the benchmarks):
 //   trajectory.txt   every tracked frame, TUM format, camera-to-world
 //   keyframes.txt    final keyframe poses, TUM format
 //   map_points.txt   "x y z r g b" per map point (world frame)
-//   run_info.yaml    input path, camera config, sensor, config, mode
+//   run_info.yaml    input path, camera config, sensor, config, mode, map, frames
 //   config_used.yaml the whole effective config (every key): `--config`
 //                    with it repeats the run byte for byte, and
 //                    `dynslam export` reads its map_export/occupancy_map

@@ -133,4 +133,12 @@ std::string slamConfigKeys() {
   return out;
 }
 
+SlamConfig configForMode(SlamConfig config, DynamicMode mode) {
+  config.dynamic.use_detector = usesDetector(mode);
+  config.dynamic.use_flow = usesFlow(mode);
+  if (mode != DynamicMode::kOff && config.dynamic.orb_features > 0)
+    config.orb.n_features = config.dynamic.orb_features;
+  return config;
+}
+
 }  // namespace dynslam

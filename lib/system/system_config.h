@@ -5,6 +5,7 @@
 // once, in slam_config_options.h.
 #include <string>
 
+#include "core/dynamic_mode.h"
 #include "mapexport/dense_map_builder.h"
 #include "occupancy/occupancy_config.h"
 
@@ -65,6 +66,13 @@ SlamConfig loadSlamConfig(const std::string& path);
 /// (paths as resolved): loadSlamConfig of this text gives `config` back.
 /// What `dynslam run` writes as config_used.yaml.
 std::string slamConfigYaml(const SlamConfig& config);
+
+/// The config a run in `mode` uses: the dynamic filter's use_detector /
+/// use_flow from the mode and, in the dynamic modes, dynamic.orb_features
+/// keypoints per frame (when > 0) instead of orb.n_features, because a third
+/// of them can land on movers and be dropped. config_used.yaml holds the
+/// config before this step, so that it repeats a run in any mode.
+SlamConfig configForMode(SlamConfig config, DynamicMode mode);
 
 /// "section: key, key, ...", one line per section (for help texts).
 std::string slamConfigKeys();

@@ -146,6 +146,38 @@ TEST(ConfigOptions, EverySectionRejectsUnknownKeys) {
   EXPECT_THROW(loadSlamConfig(d / "bad.yaml"), InputError);
 }
 
+// What a mode changes in the loaded config: the filter's two paths, and
+// dynamic.orb_features keypoints per frame in the dynamic modes only.
+TEST(ConfigForMode, SetsTheFilterPathsAndTheDynamicKeypointBudget) {
+  SlamConfig c;
+  c.orb.n_features = 1000;
+  c.dynamic.orb_features = 1500;
+  const SlamConfig off = configForMode(c, DynamicMode::kOff);
+  EXPECT_EQ(off.orb.n_features, 1000);
+  EXPECT_FALSE(off.dynamic.use_detector);
+  EXPECT_FALSE(off.dynamic.use_flow);
+  const SlamConfig detect = configForMode(c, DynamicMode::kDetect);
+  EXPECT_EQ(detect.orb.n_features, 1500);
+  EXPECT_TRUE(detect.dynamic.use_detector);
+  EXPECT_FALSE(detect.dynamic.use_flow);
+  const SlamConfig flow = configForMode(c, DynamicMode::kFlow);
+  EXPECT_EQ(flow.orb.n_features, 1500);
+  EXPECT_FALSE(flow.dynamic.use_detector);
+  EXPECT_TRUE(flow.dynamic.use_flow);
+  const SlamConfig both = configForMode(c, DynamicMode::kDetectAndFlow);
+  EXPECT_TRUE(both.dynamic.use_detector && both.dynamic.use_flow);
+  c.dynamic.orb_features = 0;  // 0: keep orb.n_features
+  EXPECT_EQ(configForMode(c, DynamicMode::kDetectAndFlow).orb.n_features, 1000);
+  // Nothing else moves: the dump of a mode's config differs from the
+  // loaded one's only in orb.n_features.
+  c.dynamic.orb_features = 1500;
+  std::string a = slamConfigYaml(c), b = slamConfigYaml(configForMode(c, DynamicMode::kFlow));
+  const auto at = a.find("n_features: 1000");
+  ASSERT_NE(at, std::string::npos);
+  a.replace(at, 16, "n_features: 1500");
+  EXPECT_EQ(a, b);
+}
+
 TEST(ConfigOptions, KeyListNamesEverySectionAndKey) {
   const std::string keys = slamConfigKeys();
   for (const std::string& name : sectionNames())

@@ -1,0 +1,25 @@
+#include "map/map_points_text.h"
+
+#include <iomanip>
+
+#include "core/atomic_file.h"
+
+namespace dynslam {
+
+void writeMapPointsText(const std::string& path, const Map& map) {
+  writeFileAtomically(path, [&](std::ostream& os) {
+    os << "# x y z r g b (world frame, colour of the reference keyframe's pixel)\n";
+    os << std::setprecision(7);
+    for (MapPoint* mp : map.mapPoints()) {
+      cv::Vec3b bgr(200, 200, 200);
+      if (mp->ref_kf) {
+        auto it = mp->obs.find(mp->ref_kf);
+        if (it != mp->obs.end()) bgr = mp->ref_kf->f().colors[it->second];
+      }
+      os << mp->pos.x() << ' ' << mp->pos.y() << ' ' << mp->pos.z() << ' ' << int(bgr[2]) << ' '
+         << int(bgr[1]) << ' ' << int(bgr[0]) << '\n';
+    }
+  });
+}
+
+}  // namespace dynslam
