@@ -45,7 +45,7 @@ class DepthRegistration {
  private:
   DepthRegistration() = default;
   PinholeCamera depth_, rgb_;
-  cv::Matx44d depth_to_rgb_;  ///< point in the depth camera -> point in the RGB camera
+  cv::Matx44d depth_to_rgb_;           ///< point in the depth camera -> point in the RGB camera
   cv::Mat undistort_x_, undistort_y_;  ///< removes the depth camera's distortion (empty: none)
 };
 

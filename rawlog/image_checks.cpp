@@ -13,7 +13,7 @@
 namespace dynslam {
 
 std::string describeImageType(const cv::Mat& image) {
-  static const char* depths[] = {"8-bit", "8-bit signed", "16-bit", "16-bit signed",
+  static const char* depths[] = {"8-bit",      "8-bit signed", "16-bit",       "16-bit signed",
                                  "32-bit int", "32-bit float", "64-bit float", "16-bit float"};
   return std::string(depths[image.depth() & 7]) + " " + std::to_string(image.channels()) +
          "-channel";
@@ -60,12 +60,14 @@ void checkDepthMatrixFile(const std::string& path, std::size_t matrix_bytes) {
   unsigned char t[4] = {0, 0, 0, 0};
   in.seekg(-4, std::ios::end);
   in.read(reinterpret_cast<char*>(t), 4);
-  const std::size_t size = std::size_t(t[0]) | std::size_t(t[1]) << 8 |
-                           std::size_t(t[2]) << 16 | std::size_t(t[3]) << 24;
+  const std::size_t size = std::size_t(t[0]) | std::size_t(t[1]) << 8 | std::size_t(t[2]) << 16 |
+                           std::size_t(t[3]) << 24;
   constexpr std::size_t kMaxHeader = 1024;
   if (!in || size < matrix_bytes || size > matrix_bytes + kMaxHeader)
-    throw InputError(path, "truncated or corrupt depth matrix (its gzip trailer does not give "
-                           "the size of a " + std::to_string(matrix_bytes) + "-byte matrix)");
+    throw InputError(path,
+                     "truncated or corrupt depth matrix (its gzip trailer does not give "
+                     "the size of a " +
+                         std::to_string(matrix_bytes) + "-byte matrix)");
 }
 
 cv::Mat readRgbImage(const std::string& path) {
@@ -82,8 +84,8 @@ cv::Mat readDepthImage(const std::string& path) {
   cv::Mat img = cv::imread(path, cv::IMREAD_UNCHANGED);
   if (img.empty()) throw InputError(path, "cannot decode depth image (not a readable PNG)");
   if (img.type() != CV_16UC1)
-    throw InputError(path, "depth image must be 16-bit single-channel, found " +
-                               describeImageType(img));
+    throw InputError(path,
+                     "depth image must be 16-bit single-channel, found " + describeImageType(img));
   return img;
 }
 
@@ -92,16 +94,20 @@ cv::Mat toBgr8(const cv::Mat& image, const std::string& source) {
     throw InputError(source, "RGB image must be 8-bit, found " + describeImageType(image));
   cv::Mat out;
   switch (image.channels()) {
-    case 3: return image;
-    case 1: cv::cvtColor(image, out, cv::COLOR_GRAY2BGR); return out;
-    case 4: cv::cvtColor(image, out, cv::COLOR_BGRA2BGR); return out;
+    case 3:
+      return image;
+    case 1:
+      cv::cvtColor(image, out, cv::COLOR_GRAY2BGR);
+      return out;
+    case 4:
+      cv::cvtColor(image, out, cv::COLOR_BGRA2BGR);
+      return out;
     default:
       throw InputError(source, "RGB image has an unsupported type: " + describeImageType(image));
   }
 }
 
-void checkImageSize(const cv::Mat& image, const PinholeCamera& camera,
-                    const std::string& source) {
+void checkImageSize(const cv::Mat& image, const PinholeCamera& camera, const std::string& source) {
   if (image.cols != camera.width || image.rows != camera.height) {
     throw InputError(source, "image is " + std::to_string(image.cols) + "x" +
                                  std::to_string(image.rows) + " but camera '" + camera.name +

@@ -34,8 +34,7 @@ cv::Mat readDepthImage(const std::string& path);
 cv::Mat toBgr8(const cv::Mat& image, const std::string& source);
 
 /// Throws InputError(source) unless image is camera.width x camera.height.
-void checkImageSize(const cv::Mat& image, const PinholeCamera& camera,
-                    const std::string& source);
+void checkImageSize(const cv::Mat& image, const PinholeCamera& camera, const std::string& source);
 
 /// "8-bit 3-channel", "16-bit 1-channel", ... for messages.
 std::string describeImageType(const cv::Mat& image);

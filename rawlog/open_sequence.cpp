@@ -9,8 +9,7 @@
 
 namespace dynslam {
 
-std::unique_ptr<FrameSource> openSequence(const std::string& path,
-                                          const std::string& camera_config,
+std::unique_ptr<FrameSource> openSequence(const std::string& path, const std::string& camera_config,
                                           const std::string& sensor) {
   if (isDirectory(path)) {
     if (!sensor.empty())

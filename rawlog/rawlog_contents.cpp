@@ -26,7 +26,8 @@ std::string className(const mrpt::serialization::CSerializable& obj) {
 }  // namespace
 
 RawlogContents::RawlogContents(const std::string& rawlog_path) : path_(rawlog_path) {
-  if (isDirectory(rawlog_path)) throw InputError(rawlog_path, "is a folder, expected a rawlog file");
+  if (isDirectory(rawlog_path))
+    throw InputError(rawlog_path, "is a folder, expected a rawlog file");
   if (!fileExists(rawlog_path)) throw InputError(rawlog_path, "rawlog file not found");
   mrpt::io::CFileGZInputStream file;
   if (!file.open(rawlog_path)) throw InputError(rawlog_path, "cannot open rawlog");
@@ -55,8 +56,8 @@ RawlogContents::RawlogContents(const std::string& rawlog_path) : path_(rawlog_pa
       // what tells a truncated file from a corrupt or foreign one.
       if (file.checkEOF())
         throw InputError(rawlog_path, "truncated rawlog: " + ordinal(n) + " is incomplete");
-      throw InputError(rawlog_path, "not an MRPT rawlog: " + ordinal(n) +
-                                        " cannot be parsed (" + oneLineMessage(e.what()) + ")");
+      throw InputError(rawlog_path, "not an MRPT rawlog: " + ordinal(n) + " cannot be parsed (" +
+                                        oneLineMessage(e.what()) + ")");
     }
     if (auto obs = std::dynamic_pointer_cast<mrpt::obs::CObservation>(obj)) {
       take(obs, n);
@@ -94,9 +95,9 @@ std::string RawlogContents::chooseSensor(const std::string& wanted) const {
     std::string found;
     for (const auto& [name, count] : others_)
       found += (found.empty() ? "" : ", ") + std::to_string(count) + " " + name;
-    throw InputError(path_, "no CObservation3DRangeScan with RGB and depth in the rawlog" +
-                                (found.empty() ? std::string(" (it is empty)")
-                                               : " (found " + found + ")"));
+    throw InputError(
+        path_, "no CObservation3DRangeScan with RGB and depth in the rawlog" +
+                   (found.empty() ? std::string(" (it is empty)") : " (found " + found + ")"));
   }
   if (!wanted.empty()) {
     if (!by_label_.count(wanted))
@@ -106,8 +107,9 @@ std::string RawlogContents::chooseSensor(const std::string& wanted) const {
     return wanted;
   }
   if (labels_.size() > 1)
-    throw UsageError(path_ + " holds " + std::to_string(labels_.size()) +
-                     " 3D sensors, pick one with --sensor LABEL: " + listSensors(labels_, by_label_));
+    throw UsageError(
+        path_ + " holds " + std::to_string(labels_.size()) +
+        " 3D sensors, pick one with --sensor LABEL: " + listSensors(labels_, by_label_));
   return labels_.front();
 }
 

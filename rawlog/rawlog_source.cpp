@@ -27,9 +27,9 @@ namespace {
 std::string findImagesDir(const std::string& rawlog_path) {
   const std::string preferred = rawlogImagesDir(rawlog_path);
   const fs::path p(rawlog_path);
-  for (const fs::path& c : {fs::path(preferred), p.parent_path() / (p.stem().string() + "_images"),
-                            p.parent_path() / (p.stem().string() + "_IMAGES"),
-                            p.parent_path() / "Images"})
+  for (const fs::path& c :
+       {fs::path(preferred), p.parent_path() / (p.stem().string() + "_images"),
+        p.parent_path() / (p.stem().string() + "_IMAGES"), p.parent_path() / "Images"})
     if (isDirectory(c.string())) return c.string();
   return preferred;  // embedded images need none
 }

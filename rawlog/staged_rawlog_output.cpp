@@ -20,8 +20,7 @@ std::string hiddenSibling(const std::string& path, const std::string& tag) {
 
 const std::string& checkedRawlogPath(const std::string& path) {
   const fs::path p(path);
-  if (p.extension() != ".rawlog")
-    throw InputError(path, "output name must end in .rawlog");
+  if (p.extension() != ".rawlog") throw InputError(path, "output name must end in .rawlog");
   if (isDirectory(path)) throw InputError(path, "is a folder, expected a .rawlog file name");
   const fs::path parent = p.parent_path().empty() ? fs::path(".") : p.parent_path();
   if (!isDirectory(parent.string()))
@@ -53,8 +52,8 @@ void StagedRawlogOutput::commit(bool with_groundtruth) {
   fs::remove_all(backup, ec);
   const bool had_images = fs::exists(images_, ec);
   auto fail = [&](const std::string& what) {
-    throw std::runtime_error(images_ + ": cannot move the converted images into place (" +
-                             what + ")");
+    throw std::runtime_error(images_ + ": cannot move the converted images into place (" + what +
+                             ")");
   };
   if (had_images) {
     fs::rename(images_, backup, ec);

@@ -6,8 +6,7 @@
 
 namespace dynslam {
 
-TumFolderSource::TumFolderSource(const std::string& folder,
-                                 const std::string& camera_config)
+TumFolderSource::TumFolderSource(const std::string& folder, const std::string& camera_config)
     : folder_(folder) {
   if (!isDirectory(folder)) {
     throw InputError(folder, fileExists(folder) ? "is a file, expected a TUM sequence folder"
@@ -18,8 +17,7 @@ TumFolderSource::TumFolderSource(const std::string& folder,
   const auto rgb = readTumList(rgb_list);
   const auto depth = readTumList(depth_list);
 
-  camera_ = loadCameraYaml(camera_config.empty() ? cameraConfigForSequence(folder)
-                                                 : camera_config);
+  camera_ = loadCameraYaml(camera_config.empty() ? cameraConfigForSequence(folder) : camera_config);
 
   const std::string gt = folder + "/groundtruth.txt";
   if (fileExists(gt)) {

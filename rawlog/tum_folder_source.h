@@ -29,8 +29,7 @@ class TumFolderSource : public FrameSource {
   /// camera_config: camera YAML; empty = configs/tum_frN.yaml from the name.
   /// Throws InputError naming the folder or file on any problem listed in
   /// sequence_source.h, a missing image file, or no associated pair.
-  explicit TumFolderSource(const std::string& folder,
-                           const std::string& camera_config = "");
+  explicit TumFolderSource(const std::string& folder, const std::string& camera_config = "");
 
   std::size_t size() const override { return pairs_.size(); }
   RGBDFrame load(std::size_t i) const override;

@@ -15,8 +15,7 @@ std::vector<TumListEntry> readTumList(const std::string& path) {
   std::vector<TumListEntry> entries;
   forEachDataLine(path, [&](const TextLine& line) {
     if (line.size() != 2)
-      line.fail("expected 'timestamp filename', found " + std::to_string(line.size()) +
-                " fields");
+      line.fail("expected 'timestamp filename', found " + std::to_string(line.size()) + " fields");
     const double t = line.number(0);
     if (!std::isfinite(t) || t < 0) line.fail("timestamp '" + line.field(0) + "' is not valid");
     if (!entries.empty() && !(t > entries.back().timestamp))

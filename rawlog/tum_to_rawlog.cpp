@@ -88,8 +88,7 @@ CObservation3DRangeScan::Ptr makeObservation(const TumFolderSource& src, std::si
 ConvertSummary convertTumToRawlog(const std::string& tum_dir, const std::string& out_rawlog,
                                   const ConvertOptions& options) {
   const TumFolderSource src(tum_dir, options.camera_config);
-  const std::size_t n =
-      options.max_frames ? std::min(options.max_frames, src.size()) : src.size();
+  const std::size_t n = options.max_frames ? std::min(options.max_frames, src.size()) : src.size();
 
   StagedRawlogOutput out(out_rawlog);
   {
@@ -101,7 +100,7 @@ ConvertSummary convertTumToRawlog(const std::string& tum_dir, const std::string&
     if (options.show_progress) progress.emplace("convert", n);
     for (std::size_t i = 0; i < n; ++i) {
       InterruptGuard::throwIfInterrupted();  // Ctrl-C: `out` removes the temporaries
-      const RGBDFrame f = src.load(i);  // decodes and checks both images
+      const RGBDFrame f = src.load(i);       // decodes and checks both images
       const auto obs = makeObservation(src, i, f, options.sensor_label, out.tmpImagesDir());
       try {
         archive << *obs;

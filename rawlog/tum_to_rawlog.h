@@ -12,10 +12,10 @@
 namespace dynslam {
 
 struct ConvertOptions {
-  std::string camera_config;           ///< camera YAML; empty: from the folder name
-  std::size_t max_frames = 0;          ///< convert only the first N pairs; 0 = all
-  std::string sensor_label = "RGBD";   ///< CObservation::sensorLabel
-  bool show_progress = true;           ///< ProgressLine on stderr (tty only)
+  std::string camera_config;          ///< camera YAML; empty: from the folder name
+  std::size_t max_frames = 0;         ///< convert only the first N pairs; 0 = all
+  std::string sensor_label = "RGBD";  ///< CObservation::sensorLabel
+  bool show_progress = true;          ///< ProgressLine on stderr (tty only)
 };
 
 struct ConvertSummary {

@@ -25,9 +25,15 @@ namespace {
 /// (forward, left, up) in optical coordinates.
 mrpt::poses::CPose3D xForwardToOptical() {
   mrpt::math::CMatrixDouble33 R;
-  R(0, 0) = 0;  R(0, 1) = -1; R(0, 2) = 0;
-  R(1, 0) = 0;  R(1, 1) = 0;  R(1, 2) = -1;
-  R(2, 0) = 1;  R(2, 1) = 0;  R(2, 2) = 0;
+  R(0, 0) = 0;
+  R(0, 1) = -1;
+  R(0, 2) = 0;
+  R(1, 0) = 0;
+  R(1, 1) = 0;
+  R(1, 2) = -1;
+  R(2, 0) = 1;
+  R(2, 1) = 0;
+  R(2, 2) = 0;
   return mrpt::poses::CPose3D(R, mrpt::math::CVectorFixedDouble<3>::Zero());
 }
 
@@ -48,7 +54,8 @@ mrpt::opengl::COctoMapVoxels::Ptr voxelCubes(const MapData& map, const std::arra
   cv::Mat levels(1, int(n), CV_8UC1), colours;
   for (std::size_t i = 0; i < n; ++i) {
     const double t = hi > lo ? (h[i] - lo) / (hi - lo) : 0.5;
-    levels.at<std::uint8_t>(0, int(i)) = cv::saturate_cast<std::uint8_t>(255 * std::clamp(t, 0.0, 1.0));
+    levels.at<std::uint8_t>(0, int(i)) =
+        cv::saturate_cast<std::uint8_t>(255 * std::clamp(t, 0.0, 1.0));
   }
   cv::applyColorMap(levels, colours, cv::COLORMAP_TURBO);
   auto cubes = COctoMapVoxels::Create();
@@ -127,8 +134,7 @@ cv::Mat MapRenderer::renderFromPose(const MapData& map, const mrpt::poses::CPose
   context_->makeCurrent();
   COpenGLScene scene;
   const auto& bg = options_.background;
-  scene.getViewport()->setCustomBackgroundColor(
-      {bg[0] / 255.f, bg[1] / 255.f, bg[2] / 255.f, 1.f});
+  scene.getViewport()->setCustomBackgroundColor({bg[0] / 255.f, bg[1] / 255.f, bg[2] / 255.f, 1.f});
 
   if (map.voxel_size > 0 && !map.points.empty()) {
     scene.insert(voxelCubes(map, options_.up ? *options_.up : frameScene(map).up));
@@ -163,7 +169,8 @@ cv::Mat MapRenderer::renderFromPose(const MapData& map, const mrpt::poses::CPose
   if (options_.draw_frustums && !map.keyframes.empty()) {
     double depth = options_.frustum_depth;
     // The radius does not depend on up: skip the plane search for it.
-    if (depth <= 0) depth = 0.06 * frameScene(map, options_.up.value_or(std::array<double, 3>{0, 0, 1})).radius;
+    if (depth <= 0)
+      depth = 0.06 * frameScene(map, options_.up.value_or(std::array<double, 3>{0, 0, 1})).radius;
     const auto to_optical = xForwardToOptical();
     for (const auto& kf : map.keyframes) {
       // 4:3 Kinect-like frustum (62 x 48 degrees).

@@ -2,9 +2,9 @@
 // Off-screen snapshots of an exported map: the coloured points (or, for voxel
 // maps such as an OctoMap's occupied cells, MapData::voxel_size > 0, cubes
 // coloured by height), the keyframe trajectory and keyframe frustums, drawn
-// by mrpt::opengl into an OSMesa context (see offscreen_context.h). The virtual camera is an ideal pinhole
-// (no distortion) with square pixels and the principal point at the image
-// centre, so tests can predict where a world point lands.
+// by mrpt::opengl into an OSMesa context (see offscreen_context.h). The virtual camera is an ideal
+// pinhole (no distortion) with square pixels and the principal point at the image centre, so tests
+// can predict where a world point lands.
 //
 // Executables that use this must link OSMesa before mrpt::opengl; linking
 // dynslam_render does that (see render/CMakeLists.txt).

@@ -10,11 +10,16 @@ namespace dynslam {
 OffscreenContext::OffscreenContext(int width, int height)
     : width_(width), height_(height), buffer_(std::size_t(width) * height * 4) {
   if (width <= 0 || height <= 0) throw std::invalid_argument("OffscreenContext: bad size");
-  const int attribs[] = {OSMESA_FORMAT,           OSMESA_RGBA,
-                         OSMESA_DEPTH_BITS,       24,
-                         OSMESA_PROFILE,          OSMESA_CORE_PROFILE,
-                         OSMESA_CONTEXT_MAJOR_VERSION, 3,
-                         OSMESA_CONTEXT_MINOR_VERSION, 3,
+  const int attribs[] = {OSMESA_FORMAT,
+                         OSMESA_RGBA,
+                         OSMESA_DEPTH_BITS,
+                         24,
+                         OSMESA_PROFILE,
+                         OSMESA_CORE_PROFILE,
+                         OSMESA_CONTEXT_MAJOR_VERSION,
+                         3,
+                         OSMESA_CONTEXT_MINOR_VERSION,
+                         3,
                          0};
   OSMesaContext ctx = OSMesaCreateContextAttribs(attribs, nullptr);
   if (!ctx) throw std::runtime_error("OSMesa: cannot create a GL 3.3 core context");
@@ -38,8 +43,8 @@ OffscreenContext::~OffscreenContext() {
 }
 
 void OffscreenContext::makeCurrent() {
-  if (!OSMesaMakeCurrent(static_cast<OSMesaContext>(context_), buffer_.data(),
-                         GL_UNSIGNED_BYTE, width_, height_)) {
+  if (!OSMesaMakeCurrent(static_cast<OSMesaContext>(context_), buffer_.data(), GL_UNSIGNED_BYTE,
+                         width_, height_)) {
     throw std::runtime_error("OSMesa: cannot make the context current");
   }
 }

@@ -52,8 +52,7 @@ double median(std::vector<float>& v) {
 }  // namespace
 
 ViewSpec ViewSpec::parse(const std::string& text) {
-  const char* usage =
-      "expected top, front, orbit-N (degrees) or pose:x,y,z,qx,qy,qz,qw";
+  const char* usage = "expected top, front, orbit-N (degrees) or pose:x,y,z,qx,qy,qz,qw";
   ViewSpec v;
   if (text == "top") {
     v.kind = Kind::kTop;
@@ -83,8 +82,8 @@ ViewSpec ViewSpec::parse(const std::string& text) {
     }
     const double n = std::sqrt(qx * qx + qy * qy + qz * qz + qw * qw);
     if (n < 1e-9) throw std::invalid_argument("bad view '" + text + "': zero quaternion");
-    v.pose = mrpt::poses::CPose3D(
-        mrpt::math::CQuaternionDouble(qw / n, qx / n, qy / n, qz / n), x, y, z);
+    v.pose = mrpt::poses::CPose3D(mrpt::math::CQuaternionDouble(qw / n, qx / n, qy / n, qz / n), x,
+                                  y, z);
   } else {
     throw std::invalid_argument("bad view '" + text + "': " + usage);
   }
@@ -136,8 +135,8 @@ SceneFrame frameScene(const MapData& map, const std::optional<std::array<double,
   return f;
 }
 
-mrpt::poses::CPose3D viewCameraPose(const ViewSpec& view, const SceneFrame& frame,
-                                    double hfov_rad, double vfov_rad) {
+mrpt::poses::CPose3D viewCameraPose(const ViewSpec& view, const SceneFrame& frame, double hfov_rad,
+                                    double vfov_rad) {
   if (view.kind == ViewSpec::Kind::kPose) return view.pose;
   const double half = 0.5 * std::min(hfov_rad, vfov_rad);
   const double dist = frame.radius / std::sin(half);
@@ -149,7 +148,8 @@ mrpt::poses::CPose3D viewCameraPose(const ViewSpec& view, const SceneFrame& fram
   }
   // front / orbit: forward turned around up (Rodrigues; forward is perpendicular to up).
   const double a = view.kind == ViewSpec::Kind::kOrbit ? view.orbit_deg * M_PI / 180 : 0;
-  const Vec3 fwd = add(scale(frame.forward, std::cos(a)), scale(cross(up, frame.forward), std::sin(a)));
+  const Vec3 fwd =
+      add(scale(frame.forward, std::cos(a)), scale(cross(up, frame.forward), std::sin(a)));
   const double elevation = 25 * M_PI / 180;
   const Vec3 to_camera = add(scale(fwd, -std::cos(elevation)), scale(up, std::sin(elevation)));
   const Vec3 z = scale(to_camera, -1);

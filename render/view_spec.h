@@ -46,7 +46,7 @@ SceneFrame frameScene(const MapData& map,
 ///   top:     above the centre looking down, image-up = forward
 ///   front:   behind the centre along forward, 25 deg above the horizon
 ///   orbit-N: `front` turned N degrees counter-clockwise around up
-mrpt::poses::CPose3D viewCameraPose(const ViewSpec& view, const SceneFrame& frame,
-                                    double hfov_rad, double vfov_rad);
+mrpt::poses::CPose3D viewCameraPose(const ViewSpec& view, const SceneFrame& frame, double hfov_rad,
+                                    double vfov_rad);
 
 }  // namespace dynslam

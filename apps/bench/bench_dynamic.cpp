@@ -25,15 +25,15 @@
 
 #include <time.h>
 
-#include "core/timing.h"
 #include "core/camera.h"
 #include "core/data_paths.h"
 #include "core/stats.h"
+#include "core/timing.h"
 #include "dynamic/depth_masks.h"
-#include "eval/mask_scoring.h"
 #include "dynamic/motion_check.h"
-#include "rawlog/tum_folder_source.h"
 #include "dynamic/yolo_detector.h"
+#include "eval/mask_scoring.h"
+#include "rawlog/tum_folder_source.h"
 
 using namespace dynslam;
 
@@ -214,8 +214,8 @@ int main(int argc, char** argv) {
               << fmt(summarize(t_track).median) << ", F+PnP " << fmt(summarize(t_geo).median)
               << ", region growing " << fmt(summarize(t_mask).median) << " ms\n"
               << "tracked " << fmt(summarize(n_tracked).median, 0) << " points, flagged dynamic "
-              << fmt(summarize(n_dyn).median, 0) << " (median; static scene), "
-              << unreliable << " frames unreliable (no flags)\n"
+              << fmt(summarize(n_dyn).median, 0) << " (median; static scene), " << unreliable
+              << " frames unreliable (no flags)\n"
               << "box depth mask (one 180x360 box): " << fmt(summarize(t_box).median, 3) << " ms\n";
   }
 

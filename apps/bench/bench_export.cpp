@@ -24,10 +24,10 @@
 #include <string>
 #include <vector>
 
-#include "core/timing.h"
 #include "core/association.h"
 #include "core/camera.h"
 #include "core/data_paths.h"
+#include "core/timing.h"
 #include "core/trajectory.h"
 #include "mapexport/dense_map_builder.h"
 #include "mapexport/map_data.h"
@@ -120,13 +120,15 @@ int main(int argc, char** argv) {
   map.points = builder.build();
   const double fuse_s = dynslam::secondsSince(t0), fuse_cpu = dynslam::processCpuSeconds() - c0;
   const auto& st = builder.stats();
-  std::printf("fusion       %.2f s wall, %.2f s CPU (back-project + per-keyframe voxel %.2f s / "
-              "%.2f s CPU; final voxel + outliers %.2f s / %.2f s CPU)\n",
-              fuse_s, fuse_cpu, add_s, add_cpu, fuse_s - add_s, fuse_cpu - add_cpu);
+  std::printf(
+      "fusion       %.2f s wall, %.2f s CPU (back-project + per-keyframe voxel %.2f s / "
+      "%.2f s CPU; final voxel + outliers %.2f s / %.2f s CPU)\n",
+      fuse_s, fuse_cpu, add_s, add_cpu, fuse_s - add_s, fuse_cpu - add_cpu);
   const double rss_fused = dynslam::peakRssMb();
-  std::printf("points       %zu back-projected -> %zu after 1 cm voxel -> %zu after outlier "
-              "removal\n",
-              st.backprojected_points, st.after_voxel, st.after_outliers);
+  std::printf(
+      "points       %zu back-projected -> %zu after 1 cm voxel -> %zu after outlier "
+      "removal\n",
+      st.backprojected_points, st.after_voxel, st.after_outliers);
 
   t0 = Clock::now();
   c0 = dynslam::processCpuSeconds();
@@ -139,16 +141,18 @@ int main(int argc, char** argv) {
   c0 = dynslam::processCpuSeconds();
   writeMapFile(out + "/map.glb", map, wo);
   const double glb_s = dynslam::secondsSince(t0), glb_cpu = dynslam::processCpuSeconds() - c0;
-  std::printf("write        PLY %.2f s / %.2f s CPU (%.1f MiB), GLB %.2f s / %.2f s CPU (%.1f MiB)\n",
-              ply_s, ply_cpu, std::filesystem::file_size(out + "/map.ply") / 1048576.0, glb_s,
-              glb_cpu, std::filesystem::file_size(out + "/map.glb") / 1048576.0);
-  std::printf("peak RSS     %.0f MiB after frames loaded, %.0f after fusion, %.0f after PLY, "
-              "%.0f after GLB\n",
-              rss_loaded, rss_fused, rss_ply, dynslam::peakRssMb());
+  std::printf(
+      "write        PLY %.2f s / %.2f s CPU (%.1f MiB), GLB %.2f s / %.2f s CPU (%.1f MiB)\n",
+      ply_s, ply_cpu, std::filesystem::file_size(out + "/map.ply") / 1048576.0, glb_s, glb_cpu,
+      std::filesystem::file_size(out + "/map.glb") / 1048576.0);
+  std::printf(
+      "peak RSS     %.0f MiB after frames loaded, %.0f after fusion, %.0f after PLY, "
+      "%.0f after GLB\n",
+      rss_loaded, rss_fused, rss_ply, dynslam::peakRssMb());
   keyframes.clear();
 
   t0 = Clock::now();
-  RenderOptions ro;  // 1280 x 960
+  RenderOptions ro;                        // 1280 x 960
   ro.up = std::array<double, 3>{0, 0, 1};  // TUM groundtruth (mocap) frame: z up
   MapRenderer renderer(ro);
   const double ctx_s = dynslam::secondsSince(t0);

@@ -70,11 +70,12 @@ void bench(int n, int runs) {
     opt.push_back(st.optimize_ms);
     s.keyframeError(max1, rms1);
   }
-  std::printf("%4d keyframes: %5d edges (tree %d, covis %d, new loop %d), %2d iters, "
-              "%6d points moved | correction %7.1f ms wall, %7.1f ms CPU (optimise %7.1f ms wall) | "
-              "kf error max %.3f -> %.3f m, rms %.3f -> %.3f m\n",
-              n, st.edges(), st.edges_spanning, st.edges_covisibility, st.edges_new_loop,
-              st.iterations, st.points_moved, median(total), median(cpu), median(opt), max0, max1, rms0, rms1);
+  std::printf(
+      "%4d keyframes: %5d edges (tree %d, covis %d, new loop %d), %2d iters, "
+      "%6d points moved | correction %7.1f ms wall, %7.1f ms CPU (optimise %7.1f ms wall) | "
+      "kf error max %.3f -> %.3f m, rms %.3f -> %.3f m\n",
+      n, st.edges(), st.edges_spanning, st.edges_covisibility, st.edges_new_loop, st.iterations,
+      st.points_moved, median(total), median(cpu), median(opt), max0, max1, rms0, rms1);
 }
 
 }  // namespace

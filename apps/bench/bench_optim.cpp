@@ -31,7 +31,6 @@ Timing summarize(std::vector<double> ms) {
   return {ms[ms.size() / 2], ms.front(), ms.back()};
 }
 
-
 void benchPose(int runs) {
   const ProjectionModel cam = optim::syntheticCamera();
   optim::PoseSceneParams sp;
@@ -48,12 +47,12 @@ void benchPose(int runs) {
     ms.push_back(msSince(t0));
   }
   const Timing t = summarize(ms), c = summarize(cpu);
-  std::printf("optimizePose   500 obs (30%% outliers), %d runs: wall median %.3f ms (min %.3f, max %.3f),"
-              " cpu median %.3f ms (min %.3f)\n    err %.2f mm %.4f deg, %d inliers, %d solves\n",
-              runs, t.median_ms, t.min_ms, t.max_ms, c.median_ms, c.min_ms,
-              1e3 * optim::translationError(r.pose_wc, scene.true_wc),
-              optim::rotationError(r.pose_wc, scene.true_wc) * 180.0 / M_PI, r.n_inliers,
-              r.iterations);
+  std::printf(
+      "optimizePose   500 obs (30%% outliers), %d runs: wall median %.3f ms (min %.3f, max %.3f),"
+      " cpu median %.3f ms (min %.3f)\n    err %.2f mm %.4f deg, %d inliers, %d solves\n",
+      runs, t.median_ms, t.min_ms, t.max_ms, c.median_ms, c.min_ms,
+      1e3 * optim::translationError(r.pose_wc, scene.true_wc),
+      optim::rotationError(r.pose_wc, scene.true_wc) * 180.0 / M_PI, r.n_inliers, r.iterations);
 }
 
 double meanPoseError(const BAProblem& a, const BAProblem& b) {
@@ -85,11 +84,14 @@ void benchBA(int runs, double depth_fraction) {
     ms.push_back(msSince(t0));
   }
   const Timing t = summarize(ms), c = summarize(cpu);
-  std::printf("bundleAdjust   %zu kf / %zu pts / %zu obs, %d runs: wall median %.1f ms (min %.1f, max %.1f),"
-              " cpu median %.1f ms (min %.1f)\n    mean kf err %.1f -> %.2f mm, cost %.0f -> %.0f, %d iterations\n",
-              p.keyframes.size(), p.points.size(), p.observations.size(), runs, t.median_ms,
-              t.min_ms, t.max_ms, c.median_ms, c.min_ms, 1e3 * meanPoseError(scene.initial, scene.truth),
-              1e3 * meanPoseError(p, scene.truth), r.initial_cost, r.final_cost, r.iterations);
+  std::printf(
+      "bundleAdjust   %zu kf / %zu pts / %zu obs, %d runs: wall median %.1f ms (min %.1f, max "
+      "%.1f),"
+      " cpu median %.1f ms (min %.1f)\n    mean kf err %.1f -> %.2f mm, cost %.0f -> %.0f, %d "
+      "iterations\n",
+      p.keyframes.size(), p.points.size(), p.observations.size(), runs, t.median_ms, t.min_ms,
+      t.max_ms, c.median_ms, c.min_ms, 1e3 * meanPoseError(scene.initial, scene.truth),
+      1e3 * meanPoseError(p, scene.truth), r.initial_cost, r.final_cost, r.iterations);
 }
 
 }  // namespace

@@ -15,9 +15,9 @@
 
 #include <algorithm>
 #include <chrono>
-#include <ctime>
 #include <cstdio>
 #include <cstdlib>
+#include <ctime>
 #include <fstream>
 #include <functional>
 #include <sstream>
@@ -59,7 +59,8 @@ double median(std::vector<double> v) {
 }
 
 /// Times `run` on every frame (after one warm-up frame).
-Result timeFrames(const std::vector<cv::Mat>& frames, const std::function<int(const cv::Mat&)>& run) {
+Result timeFrames(const std::vector<cv::Mat>& frames,
+                  const std::function<int(const cv::Mat&)>& run) {
   run(frames.front());
   std::vector<double> ms, cpu;
   double kps = 0;
@@ -79,9 +80,9 @@ Result timeFrames(const std::vector<cv::Mat>& frames, const std::function<int(co
 }  // namespace
 
 int main(int argc, char** argv) {
-  const std::string dir = argc > 1 ? argv[1]
-                                   : std::string(DYNSLAM_SOURCE_DIR) +
-                                         "/../shared/data/tum/rgbd_dataset_freiburg1_rpy";
+  const std::string dir =
+      argc > 1 ? argv[1]
+               : std::string(DYNSLAM_SOURCE_DIR) + "/../shared/data/tum/rgbd_dataset_freiburg1_rpy";
   const int n = argc > 2 ? std::atoi(argv[2]) : 100;
   if (argc > 3) cv::setNumThreads(std::atoi(argv[3]));
 
@@ -106,7 +107,8 @@ int main(int argc, char** argv) {
     return static_cast<int>(kps.size());
   });
   for (const auto& [name, r] : {std::make_pair("OrbExtractor", a), std::make_pair("cv::ORB", b)})
-    std::printf("%-13s wall median %6.2f ms  p95 %6.2f ms | cpu median %6.2f ms | keypoints %6.1f\n",
-                name, r.median_ms, r.p95_ms, r.median_cpu_ms, r.mean_kps);
+    std::printf(
+        "%-13s wall median %6.2f ms  p95 %6.2f ms | cpu median %6.2f ms | keypoints %6.1f\n", name,
+        r.median_ms, r.p95_ms, r.median_cpu_ms, r.mean_kps);
   return 0;
 }

@@ -48,7 +48,8 @@ Timing timeIt(const std::function<void()>& fn) {
 Timing medianOf(int n, const std::function<void()>& fn) {
   std::vector<Timing> v;
   for (int i = 0; i < n; ++i) v.push_back(timeIt(fn));
-  std::sort(v.begin(), v.end(), [](const Timing& a, const Timing& b) { return a.wall_ms < b.wall_ms; });
+  std::sort(v.begin(), v.end(),
+            [](const Timing& a, const Timing& b) { return a.wall_ms < b.wall_ms; });
   return v[v.size() / 2];
 }
 
@@ -75,7 +76,8 @@ void printLoad(const char* name, const std::string& path) {
               words, static_cast<double>(fs::file_size(path)) / 1e6, t.wall_ms, t.cpu_ms);
 }
 
-void printTransform(const char* name, const OrbVocabulary& voc, const std::vector<cv::Mat>& frames) {
+void printTransform(const char* name, const OrbVocabulary& voc,
+                    const std::vector<cv::Mat>& frames) {
   std::vector<double> ms;
   BowVector bow;
   FeatureVector fv;
@@ -93,11 +95,14 @@ void printTransform(const char* name, const OrbVocabulary& voc, const std::vecto
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string shared = fs::weakly_canonical(fs::path(DYNSLAM_SOURCE_DIR) / ".." / "shared").string();
+  std::string shared =
+      fs::weakly_canonical(fs::path(DYNSLAM_SOURCE_DIR) / ".." / "shared").string();
   bool train = true;
   for (int i = 1; i < argc; ++i) {
-    if (std::strcmp(argv[i], "--no-train") == 0) train = false;
-    else shared = argv[i];
+    if (std::strcmp(argv[i], "--no-train") == 0)
+      train = false;
+    else
+      shared = argv[i];
   }
   const std::string rpy = shared + "/data/tum/rgbd_dataset_freiburg1_rpy";
   const std::string shipped = std::string(DYNSLAM_SOURCE_DIR) + "/configs/orb_vocab_k10_L5.bin";
@@ -108,9 +113,9 @@ int main(int argc, char** argv) {
     // The recipe of configs/orb_vocab.md, inputs in the same order (the
     // shell expands people/*.jpg sorted), so the result must equal the file.
     std::vector<std::string> inputs{rpy};
-    for (const char* p : {"000000000785.jpg", "000000040083.jpg", "000000196141.jpg",
-                          "000000197388.jpg", "bus.jpg", "ochuman_003799.jpg",
-                          "ochuman_003896.jpg", "zidane.jpg", "basketball1.png"})
+    for (const char* p :
+         {"000000000785.jpg", "000000040083.jpg", "000000196141.jpg", "000000197388.jpg", "bus.jpg",
+          "ochuman_003799.jpg", "ochuman_003896.jpg", "zidane.jpg", "basketball1.png"})
       inputs.push_back(shared + "/data/people/" + p);
     const std::vector<std::string> images = listTrainingImages(inputs, 4);
     std::vector<cv::Mat> desc;

@@ -26,7 +26,8 @@ void validateBenchOptions(const BenchOptions& o) {
     if (!parseDynamicMode(m))
       throw std::invalid_argument("unknown mode '" + m + "': expected " + dynamicModeChoices());
   for (std::size_t i = 0; i < o.modes.size(); ++i)
-    if (std::find(o.modes.begin(), o.modes.begin() + long(i), o.modes[i]) != o.modes.begin() + long(i))
+    if (std::find(o.modes.begin(), o.modes.begin() + long(i), o.modes[i]) !=
+        o.modes.begin() + long(i))
       throw std::invalid_argument("mode '" + o.modes[i] + "' given twice");
   if (o.runs < 1) throw std::invalid_argument("--runs must be at least 1");
   if (o.jobs < 1) throw std::invalid_argument("--jobs must be at least 1");
@@ -69,9 +70,15 @@ BenchPlan makeBenchPlan(const BenchOptions& o) {
         r.sequence = s;
         r.mode = mode;
         r.run = run;
-        r.dir = o.out_dir + "/" + plan.sequences[s].name + "/" + mode + "/run" + std::to_string(run);
-        r.argv = {absolute(o.dynslam_binary), "run", absolute(plan.sequences[s].path), "-o",
-                  absolute(r.dir), "--mode", mode};
+        r.dir =
+            o.out_dir + "/" + plan.sequences[s].name + "/" + mode + "/run" + std::to_string(run);
+        r.argv = {absolute(o.dynslam_binary),
+                  "run",
+                  absolute(plan.sequences[s].path),
+                  "-o",
+                  absolute(r.dir),
+                  "--mode",
+                  mode};
         if (o.max_frames > 0) {
           r.argv.push_back("--max-frames");
           r.argv.push_back(std::to_string(o.max_frames));
@@ -115,8 +122,9 @@ void writeBenchPlan(const BenchPlan& plan) {
 BenchPlan readBenchPlan(const std::string& out_dir, const std::string& dynslam_binary) {
   const std::string path = out_dir + "/" + kBenchPlanFile;
   if (!fileExists(path))
-    throw InputError(path, "no benchmark plan here (written by `dynslam bench -o DIR` and "
-                           "`dynslam bench --emit-jobs FILE -o DIR`)");
+    throw InputError(path,
+                     "no benchmark plan here (written by `dynslam bench -o DIR` and "
+                     "`dynslam bench --emit-jobs FILE -o DIR`)");
   ConfigSection root(loadYamlFile(path), path, "");
   BenchOptions o;
   o.modes.clear();

@@ -56,7 +56,12 @@ std::string percent(double fraction) {
 }
 
 void spreadJson(JsonWriter& w, const std::string& key, const Spread& s) {
-  w.beginObject(key).value("n", s.n).value("median", s.median).value("min", s.min).value("max", s.max).endObject();
+  w.beginObject(key)
+      .value("n", s.n)
+      .value("median", s.median)
+      .value("min", s.min)
+      .value("max", s.max)
+      .endObject();
 }
 
 void timesJson(JsonWriter& w, const std::string& key, const std::vector<double>& v) {
@@ -145,7 +150,8 @@ std::vector<ModeSummary> summarizeModes(const BenchResults& res) {
       m.loops_closed = spreadOf(loops);
       m.representative_run = first_ok;
       m.identical_outputs =
-          crcs.size() >= 2 && std::all_of(crcs.begin(), crcs.end(), [&](uint32_t c) { return c == crcs[0]; });
+          crcs.size() >= 2 &&
+          std::all_of(crcs.begin(), crcs.end(), [&](uint32_t c) { return c == crcs[0]; });
       double best = std::numeric_limits<double>::infinity();
       for (const auto& [value, run] : ate_by_run) {
         const double d = std::abs(value - m.ate_rmse.median);
@@ -177,9 +183,7 @@ const ModeSummary* BenchReport::find(const std::string& sequence, const std::str
 std::string BenchReport::json() const {
   const BenchOptions& o = results_.options;
   JsonWriter w;
-  w.beginObject()
-      .value("dynslam_version", DYNSLAM_VERSION)
-      .value("tool", "dynslam bench");
+  w.beginObject().value("dynslam_version", DYNSLAM_VERSION).value("tool", "dynslam bench");
   w.beginObject("options");
   w.beginArray("modes");
   for (const auto& m : o.modes) w.element(m);
@@ -223,7 +227,8 @@ std::string BenchReport::json() const {
       spreadJson(w, "peak_rss_mb", m.peak_rss_mb);
       spreadJson(w, "walker_recall", m.recall);
       spreadJson(w, "static_false_rejection", m.false_rejection);
-      spreadJson(w, "static_false_rejection_outside_unmasked_person_boxes", m.false_rejection_outside_boxes);
+      spreadJson(w, "static_false_rejection_outside_unmasked_person_boxes",
+                 m.false_rejection_outside_boxes);
       spreadJson(w, "standing_rejection", m.standing_rejection);
       spreadJson(w, "keyframes", m.keyframes);
       spreadJson(w, "map_points", m.map_points);
@@ -282,10 +287,15 @@ std::string BenchReport::markdown() const {
   std::ostringstream md;
   md << "# Benchmark report\n\n";
   md << "`dynslam bench` " << DYNSLAM_VERSION << ": " << o.runs << " run(s) per sequence and mode, "
-     << (o.max_frames ? "first " + std::to_string(o.max_frames) + " frames" : std::string("whole sequences"))
-     << ", config " << (o.config.empty() ? std::string("`configs/dynslam.yaml`") : "`" + o.config + "`")
-     << ". Cells are the median over runs with [min–max]; \"identical\" after the run count: every run wrote byte-identical trajectory, keyframes and map points, so there is one result, not a spread. ATE and RPE are computed as `dynslam eval` "
-        "computes them (TUM conventions; RPE over 1 s; coverage over the frames given to the run). Frame time: everything the tracking "
+     << (o.max_frames ? "first " + std::to_string(o.max_frames) + " frames"
+                      : std::string("whole sequences"))
+     << ", config "
+     << (o.config.empty() ? std::string("`configs/dynslam.yaml`") : "`" + o.config + "`")
+     << ". Cells are the median over runs with [min–max]; \"identical\" after the run count: every "
+        "run wrote byte-identical trajectory, keyframes and map points, so there is one result, "
+        "not a spread. ATE and RPE are computed as `dynslam eval` "
+        "computes them (TUM conventions; RPE over 1 s; coverage over the frames given to the run). "
+        "Frame time: everything the tracking "
         "thread does per frame (ORB extraction, dynamic-feature filter, tracking); fps: frames "
         "per second of the run's frame loop; memory: the run process's peak resident set.\n";
   for (const auto& seq : results_.sequences) {
@@ -294,18 +304,20 @@ std::string BenchReport::markdown() const {
                                    : "groundtruth `" + seq.groundtruth + "`")
        << ".\n\n";
     if (!seq.groundtruth.empty()) {
-      md << "| mode | runs ok | ATE RMSE [m] | ATE SD [m] | RPE 1 s trans RMSE [m] | RPE 1 s rot RMSE [°] | coverage [%] |\n"
+      md << "| mode | runs ok | ATE RMSE [m] | ATE SD [m] | RPE 1 s trans RMSE [m] | RPE 1 s rot "
+            "RMSE [°] | coverage [%] |\n"
          << "|---|---|---|---|---|---|---|\n";
       for (const auto& mode : o.modes) {
         const ModeSummary& m = *find(seq.name, mode);
         md << "| " << mode << " | " << m.runs - m.failed << "/" << m.runs
-           << (m.identical_outputs ? ", identical" : "") << " | "
-           << cell(m.ate_rmse, 4) << " | " << cell(m.ate_sd, 4) << " | " << cell(m.rpe_trans_rmse, 4)
-           << " | " << cell(m.rpe_rot_rmse, 2) << " | " << cell(m.coverage, 1, 100) << " |\n";
+           << (m.identical_outputs ? ", identical" : "") << " | " << cell(m.ate_rmse, 4) << " | "
+           << cell(m.ate_sd, 4) << " | " << cell(m.rpe_trans_rmse, 4) << " | "
+           << cell(m.rpe_rot_rmse, 2) << " | " << cell(m.coverage, 1, 100) << " |\n";
       }
       md << "\n";
     }
-    md << "| mode | frame time mean [ms] | median [ms] | p95 [ms] | tracking stage median [ms] | fps | peak memory [MB] |\n"
+    md << "| mode | frame time mean [ms] | median [ms] | p95 [ms] | tracking stage median [ms] | "
+          "fps | peak memory [MB] |\n"
        << "|---|---|---|---|---|---|---|\n";
     for (const auto& mode : o.modes) {
       const ModeSummary& m = *find(seq.name, mode);
@@ -327,12 +339,14 @@ std::string BenchReport::markdown() const {
             "inside a walker mask flagged dynamic; static keypoints flagged, all and outside "
             "person boxes that hold no true mask, i.e. without the real seated person; "
             "standing-still people flagged):\n\n"
-         << "| mode | walker recall [%] | static flagged [%] | static flagged outside unmasked person boxes [%] | standing-still flagged [%] |\n"
+         << "| mode | walker recall [%] | static flagged [%] | static flagged outside unmasked "
+            "person boxes [%] | standing-still flagged [%] |\n"
          << "|---|---|---|---|---|\n";
       for (const auto& mode : o.modes) {
         const ModeSummary& m = *find(seq.name, mode);
-        md << "| " << mode << " | " << cell(m.recall, 1, 100) << " | " << cell(m.false_rejection, 1, 100)
-           << " | " << cell(m.false_rejection_outside_boxes, 1, 100) << " | "
+        md << "| " << mode << " | " << cell(m.recall, 1, 100) << " | "
+           << cell(m.false_rejection, 1, 100) << " | "
+           << cell(m.false_rejection_outside_boxes, 1, 100) << " | "
            << cell(m.standing_rejection, 1, 100) << " |\n";
       }
     }
@@ -340,7 +354,8 @@ std::string BenchReport::markdown() const {
     if (off && !seq.groundtruth.empty() && o.modes.size() > 1) {
       md << "\nImprovement over `off` (the paper's eta = (off − mode) / off, of the medians; "
             "positive is better):\n\n"
-         << "| mode | ATE RMSE | ATE SD | RPE trans RMSE | RPE trans SD | RPE rot RMSE | RPE rot SD |\n"
+         << "| mode | ATE RMSE | ATE SD | RPE trans RMSE | RPE trans SD | RPE rot RMSE | RPE rot "
+            "SD |\n"
          << "|---|---|---|---|---|---|---|\n";
       for (const auto& mode : o.modes) {
         if (mode == "off") continue;

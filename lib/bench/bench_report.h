@@ -49,7 +49,8 @@ class BenchReport {
   const BenchResults& results() const { return results_; }
   const std::vector<ModeSummary>& summaries() const { return summaries_; }
   /// Plot files (relative to the report folder) shown for a sequence's mode.
-  void addPlot(const std::string& sequence, const std::string& mode, const std::string& relative_path);
+  void addPlot(const std::string& sequence, const std::string& mode,
+               const std::string& relative_path);
 
   std::string json() const;
   std::string markdown() const;

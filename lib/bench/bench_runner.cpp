@@ -20,7 +20,8 @@ namespace dynslam {
 namespace fs = std::filesystem;
 
 std::size_t BenchResults::failures() const {
-  return std::size_t(std::count_if(runs.begin(), runs.end(), [](const RunRecord& r) { return !r.ok; }));
+  return std::size_t(
+      std::count_if(runs.begin(), runs.end(), [](const RunRecord& r) { return !r.ok; }));
 }
 
 namespace {
@@ -52,7 +53,8 @@ std::string describeRecord(const RunRecord& r) {
     std::snprintf(line, sizeof line, "    ATE RMSE %.4f m, coverage %s, %.1f fps, %.0f s, %.0f MB",
                   r.evaluation->ate.stats.rmse, coverage, r.fps, r.wall_s, r.peak_rss_mb);
   } else {
-    std::snprintf(line, sizeof line, "    %.1f fps, %.0f s, %.0f MB", r.fps, r.wall_s, r.peak_rss_mb);
+    std::snprintf(line, sizeof line, "    %.1f fps, %.0f s, %.0f MB", r.fps, r.wall_s,
+                  r.peak_rss_mb);
   }
   return line;
 }
@@ -133,7 +135,8 @@ BenchResults BenchRunner::runAll(const std::function<void(const std::string&)>& 
   if (progress)
     for (const auto& seq : res.sequences)
       if (seq.groundtruth.empty()) progress(seq.name + ": no groundtruth, timing only");
-  for (const PlannedRun& run : plan_.runs) makeDirectories(fs::path(run.dir).parent_path().string());
+  for (const PlannedRun& run : plan_.runs)
+    makeDirectories(fs::path(run.dir).parent_path().string());
 
   const std::size_t total = plan_.runs.size();
   res.runs.resize(total);

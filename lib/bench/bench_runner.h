@@ -20,10 +20,10 @@ namespace dynslam {
 struct RunRecord {
   std::string sequence;  ///< name (see sequenceNames)
   std::string mode;
-  int run = 0;           ///< 1-based
-  std::string dir;       ///< the run folder
-  bool ok = false;       ///< ran, and evaluated when there is groundtruth
-  std::string error;     ///< why not ok
+  int run = 0;             ///< 1-based
+  std::string dir;         ///< the run folder
+  bool ok = false;         ///< ran, and evaluated when there is groundtruth
+  std::string error;       ///< why not ok
   double wall_s = 0;       ///< report.json "wall_time_s" (the frame loop)
   double peak_rss_mb = 0;  ///< report.json "peak_rss_mb" (the run process)
   double fps = 0;          ///< report.json "fps" (frames / tracking-loop time)

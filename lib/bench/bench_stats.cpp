@@ -7,8 +7,7 @@
 
 namespace dynslam {
 
-Spread::Spread()
-    : median(std::numeric_limits<double>::quiet_NaN()), min(median), max(median) {}
+Spread::Spread() : median(std::numeric_limits<double>::quiet_NaN()), min(median), max(median) {}
 
 Spread spreadOf(const std::vector<double>& values) {
   std::vector<double> finite;

@@ -15,7 +15,8 @@ extern char** environ;
 namespace dynslam {
 
 std::string ChildResult::describe() const {
-  if (signal != 0) return "killed by signal " + std::to_string(signal) + " (" + strsignal(signal) + ")";
+  if (signal != 0)
+    return "killed by signal " + std::to_string(signal) + " (" + strsignal(signal) + ")";
   return "exit code " + std::to_string(exit_code);
 }
 
@@ -35,8 +36,7 @@ ChildResult runChildProcess(const std::vector<std::string>& argv, const std::str
   pid_t pid = 0;
   const int err = posix_spawn(&pid, args[0], &actions, nullptr, args.data(), environ);
   posix_spawn_file_actions_destroy(&actions);
-  if (err != 0)
-    throw std::runtime_error("cannot start " + argv[0] + ": " + std::strerror(err));
+  if (err != 0) throw std::runtime_error("cannot start " + argv[0] + ": " + std::strerror(err));
 
   int status = 0;
   pid_t waited;

@@ -9,8 +9,8 @@
 namespace dynslam {
 
 struct ChildResult {
-  int exit_code = -1;    ///< -1 when killed by a signal
-  int signal = 0;        ///< the signal that ended it, 0 if it exited
+  int exit_code = -1;  ///< -1 when killed by a signal
+  int signal = 0;      ///< the signal that ended it, 0 if it exited
   bool ok() const { return signal == 0 && exit_code == 0; }
   /// "exit code 1" / "killed by signal 9 (Killed)".
   std::string describe() const;

@@ -66,7 +66,10 @@ void drawDashedLine(cv::Mat& img, cv::Point2d a, cv::Point2d b, const cv::Scalar
 PlotArea::PlotArea(cv::Rect pixels, double x0, double x1, double y0, double y1)
     : px_(pixels), x0_(x0), x1_(x1), y0_(y0), y1_(y1) {
   // A flat range (a constant signal) still gets a visible band.
-  if (!(x1_ > x0_)) { x0_ -= 0.5; x1_ += 0.5; }
+  if (!(x1_ > x0_)) {
+    x0_ -= 0.5;
+    x1_ += 0.5;
+  }
   if (!(y1_ > y0_)) {
     const double pad = std::max(0.05, std::abs(y0_) * 0.05);
     y0_ -= pad;
@@ -128,7 +131,8 @@ void PlotArea::drawAxes(cv::Mat& img, const std::string& x_label, const std::str
     const int w = cv::getTextSize(x_label, cv::FONT_HERSHEY_SIMPLEX, 0.5, 1, nullptr).width;
     drawText(img, x_label, {px_.x + px_.width / 2 - w / 2, bottom + (x_tick_labels ? 42 : 20)});
   }
-  if (!y_label.empty()) drawVerticalText(img, y_label, {std::max(12, left - 62), px_.y + px_.height / 2});
+  if (!y_label.empty())
+    drawVerticalText(img, y_label, {std::max(12, left - 62), px_.y + px_.height / 2});
 }
 
 }  // namespace dynslam

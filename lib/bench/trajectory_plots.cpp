@@ -48,7 +48,8 @@ void drawLegend(cv::Mat& img, cv::Point at, const std::vector<LegendItem>& items
   int y = at.y;
   int width = 0;
   for (const auto& it : items)
-    width = std::max(width, cv::getTextSize(it.text, cv::FONT_HERSHEY_SIMPLEX, 0.45, 1, nullptr).width);
+    width =
+        std::max(width, cv::getTextSize(it.text, cv::FONT_HERSHEY_SIMPLEX, 0.45, 1, nullptr).width);
   const cv::Rect box(at.x - 8, at.y - 14, width + 58, int(items.size()) * 20 + 6);
   cv::rectangle(img, box, cv::Scalar(255, 255, 255), cv::FILLED);
   cv::rectangle(img, box, cv::Scalar(180, 180, 180), 1);
@@ -70,7 +71,8 @@ void drawTitle(cv::Mat& img, const std::string& title) {
 
 /// The aligned estimate as a polyline, one segment per consecutive pair.
 template <class ToPoint, class Colour>
-void drawEstimate(cv::Mat& img, const TrajectoryPlotData& d, ToPoint to_point, Colour colour, int thickness) {
+void drawEstimate(cv::Mat& img, const TrajectoryPlotData& d, ToPoint to_point, Colour colour,
+                  int thickness) {
   for (std::size_t k = 1; k < d.est_positions.size(); ++k) {
     if (d.est_times[k] - d.est_times[k - 1] > kGapS) continue;
     cv::line(img, to_point(k - 1), to_point(k), colour(k), thickness, cv::LINE_AA, 4);
@@ -115,7 +117,9 @@ cv::Vec3b errorColour(double error, double max_error) {
 // ---------------------------------------------------------------- top view
 
 TopViewPlot::TopViewPlot(const TrajectoryPlotData& data, cv::Size size)
-    : data_(data), size_(size), area_(cv::Rect(90, 70, size.width - 90 - 150, size.height - 70 - 70), 0, 1, 0, 1) {
+    : data_(data),
+      size_(size),
+      area_(cv::Rect(90, 70, size.width - 90 - 150, size.height - 70 - 70), 0, 1, 0, 1) {
   // The two axes along which the groundtruth spreads most (std dev).
   Eigen::Vector3d mean = Eigen::Vector3d::Zero(), var = Eigen::Vector3d::Zero();
   const auto& g = data_.gt_positions.empty() ? data_.est_positions : data_.gt_positions;
@@ -143,7 +147,8 @@ cv::Mat TopViewPlot::render(const std::string& title) const {
   const std::string u = kAxisNames[axis_u_], v = kAxisNames[axis_v_];
   area_.drawAxes(img, u + " [m]", v + " [m]");
   drawTitle(img, title);
-  drawText(img, "top view: " + u + "-" + v + " plane (the groundtruth's two widest axes), equal scale",
+  drawText(img,
+           "top view: " + u + "-" + v + " plane (the groundtruth's two widest axes), equal scale",
            {20, 48}, 0.45, cv::Scalar(90, 90, 90));
 
   const cv::Rect clip = area_.pixels();
@@ -171,7 +176,8 @@ cv::Mat TopViewPlot::render(const std::string& title) const {
   }
   drawLegend(img, {clip.x + 18, clip.y + 22},
              {{kGroundtruthGrey, "groundtruth"},
-              {cv::Scalar(errorColour(0.5 * max_error_, max_error_)), "estimate (aligned), colour = ATE error"},
+              {cv::Scalar(errorColour(0.5 * max_error_, max_error_)),
+               "estimate (aligned), colour = ATE error"},
               {cv::Scalar(errorColour(data_.errors.empty() ? 0 : data_.errors.front(), max_error_)),
                "start of the estimate", true}});
 
@@ -180,7 +186,8 @@ cv::Mat TopViewPlot::render(const std::string& title) const {
   for (int r = 0; r < bar.height; ++r) {
     const double e = max_error_ * (1.0 - double(r) / std::max(1, bar.height - 1));
     const cv::Vec3b c = errorColour(e, max_error_);
-    cv::line(img, {bar.x, bar.y + r}, {bar.x + bar.width - 1, bar.y + r}, cv::Scalar(c[0], c[1], c[2]));
+    cv::line(img, {bar.x, bar.y + r}, {bar.x + bar.width - 1, bar.y + r},
+             cv::Scalar(c[0], c[1], c[2]));
   }
   cv::rectangle(img, bar, cv::Scalar(60, 60, 60), 1);
   const std::vector<double> ticks = niceTicks(0, std::max(max_error_, 1e-6), 6);
@@ -197,10 +204,12 @@ cv::Mat TopViewPlot::render(const std::string& title) const {
 
 // ----------------------------------------------------------- x/y/z vs time
 
-cv::Mat plotPositionsOverTime(const TrajectoryPlotData& d, const std::string& title, cv::Size size) {
+cv::Mat plotPositionsOverTime(const TrajectoryPlotData& d, const std::string& title,
+                              cv::Size size) {
   cv::Mat img(size, CV_8UC3, cv::Scalar::all(255));
   drawTitle(img, title);
-  const double t0 = !d.gt_times.empty() ? d.gt_times.front() : (d.est_times.empty() ? 0 : d.est_times.front());
+  const double t0 =
+      !d.gt_times.empty() ? d.gt_times.front() : (d.est_times.empty() ? 0 : d.est_times.front());
   double t_lo = std::numeric_limits<double>::infinity(), t_hi = -t_lo;
   for (const auto* v : {&d.gt_times, &d.est_times})
     for (double t : *v) {
@@ -214,7 +223,8 @@ cv::Mat plotPositionsOverTime(const TrajectoryPlotData& d, const std::string& ti
     const auto r = padded(extent(d.gt_positions, d.est_positions, axis), 0.08);
     const cv::Rect px(90, top + axis * (panel_h + gap), size.width - 90 - 30, panel_h);
     const PlotArea area(px, t_lo, t_hi, r.first, r.second);
-    area.drawAxes(img, axis == 2 ? "time [s]" : "", std::string(kAxisNames[axis]) + " [m]", axis == 2);
+    area.drawAxes(img, axis == 2 ? "time [s]" : "", std::string(kAxisNames[axis]) + " [m]",
+                  axis == 2);
     cv::Mat inner = img(px);
     auto at = [&](double t, double v) {
       const cv::Point2d q = area.toPixel(t - t0, v) - cv::Point2d(px.x, px.y);
@@ -250,9 +260,10 @@ cv::Mat plotFrameTimes(const FrameTimes& ft, const std::string& title, cv::Size 
     const cv::Point2d q = area.toPixel(x, y) - cv::Point2d(px.x, px.y);
     return cv::Point(cvRound(q.x * 16), cvRound(q.y * 16));
   };
-  const cv::Scalar frame_colour(200, 90, 20), track_colour(20, 140, 240), median_colour(40, 40, 200);
-  for (const auto& [series, colour] : {std::make_pair(&ft.frame_ms, frame_colour),
-                                       std::make_pair(&ft.track_ms, track_colour)}) {
+  const cv::Scalar frame_colour(200, 90, 20), track_colour(20, 140, 240),
+      median_colour(40, 40, 200);
+  for (const auto& [series, colour] :
+       {std::make_pair(&ft.frame_ms, frame_colour), std::make_pair(&ft.track_ms, track_colour)}) {
     for (std::size_t k = 1; k < series->size(); ++k) {
       const double a = (*series)[k - 1], b = (*series)[k];
       if (!std::isfinite(a) || !std::isfinite(b)) continue;
@@ -264,7 +275,8 @@ cv::Mat plotFrameTimes(const FrameTimes& ft, const std::string& title, cv::Size 
     if (std::isfinite(v)) finite.push_back(v);
   const SummaryStats s = summarize(finite);
   char median_text[64];
-  std::snprintf(median_text, sizeof median_text, "frame median %.1f ms (p95 %.1f ms)", s.median, s.p95);
+  std::snprintf(median_text, sizeof median_text, "frame median %.1f ms (p95 %.1f ms)", s.median,
+                s.p95);
   if (!finite.empty())
     drawDashedLine(img, area.toPixel(area.x0(), s.median), area.toPixel(area.x1(), s.median),
                    median_colour, 2);
@@ -278,10 +290,14 @@ cv::Mat plotFrameTimes(const FrameTimes& ft, const std::string& title, cv::Size 
 void writePng(const std::string& path, const cv::Mat& image) {
   std::vector<uint8_t> png;
   // Best compression: these files are committed under docs/.
-  if (!cv::imencode(".png", image, png, {cv::IMWRITE_PNG_COMPRESSION, 9})) throw std::runtime_error(path + ": PNG encoding failed");
-  writeFileAtomically(path, [&](std::ostream& os) {
-    os.write(reinterpret_cast<const char*>(png.data()), std::streamsize(png.size()));
-  }, true);
+  if (!cv::imencode(".png", image, png, {cv::IMWRITE_PNG_COMPRESSION, 9}))
+    throw std::runtime_error(path + ": PNG encoding failed");
+  writeFileAtomically(
+      path,
+      [&](std::ostream& os) {
+        os.write(reinterpret_cast<const char*>(png.data()), std::streamsize(png.size()));
+      },
+      true);
 }
 
 }  // namespace dynslam

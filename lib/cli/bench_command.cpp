@@ -17,8 +17,8 @@
 #include "bench/bench_report.h"
 #include "bench/bench_runner.h"
 #include "cli/commands.h"
-#include "core/errors.h"
 #include "core/atomic_file.h"
+#include "core/errors.h"
 
 namespace dynslam::cli {
 namespace {
@@ -49,10 +49,11 @@ int benchMain(int argc, char** argv) {
   TCLAP::CmdLine cmd(kDescription, ' ', DYNSLAM_VERSION);
   TCLAP::UnlabeledMultiArg<std::string> seq_arg(
       "sequences", "TUM sequence folders or .rawlog files (not with --collect)", false, "SEQ", cmd);
-  TCLAP::ValueArg<std::string> out_arg("o", "out", "output folder (created if missing)", false,
-                                       "", "OUT_DIR", cmd);
+  TCLAP::ValueArg<std::string> out_arg("o", "out", "output folder (created if missing)", false, "",
+                                       "OUT_DIR", cmd);
   TCLAP::ValueArg<std::string> modes_arg(
-      "", "modes", "comma-separated modes out of off,detect,flow,detect+flow (default: detect+flow, "
+      "", "modes",
+      "comma-separated modes out of off,detect,flow,detect+flow (default: detect+flow, "
       "the product; add off for the improvement table)",
       false, "detect+flow", "LIST", cmd);
   TCLAP::ValueArg<int> runs_arg("", "runs", "runs per sequence and mode", false, 3, "N", cmd);
@@ -91,9 +92,9 @@ int benchMain(int argc, char** argv) {
   std::string out_dir;
   std::unique_ptr<BenchReport> report;
   if (collect_arg.isSet()) {
-    for (const TCLAP::Arg* a : std::vector<const TCLAP::Arg*>{
-             &seq_arg, &out_arg, &modes_arg, &runs_arg, &max_frames_arg, &config_arg, &jobs_arg,
-             &emit_arg})
+    for (const TCLAP::Arg* a :
+         std::vector<const TCLAP::Arg*>{&seq_arg, &out_arg, &modes_arg, &runs_arg, &max_frames_arg,
+                                        &config_arg, &jobs_arg, &emit_arg})
       if (a->isSet())
         throw UsageError("--collect takes the plan of its folder: no " +
                          (a == &seq_arg ? std::string("sequences") : "--" + a->getName()));
@@ -107,7 +108,8 @@ int benchMain(int argc, char** argv) {
                        std::to_string(max_frames_arg.getValue()));
     if (emit_arg.isSet() && (jobs_arg.isSet() || plots_arg.isSet()))
       throw UsageError("--emit-jobs runs nothing: no --jobs or --plots (give them to --collect)");
-    if (emit_arg.isSet() && emit_arg.getValue().empty()) throw UsageError("--emit-jobs needs a file");
+    if (emit_arg.isSet() && emit_arg.getValue().empty())
+      throw UsageError("--emit-jobs needs a file");
     BenchOptions o;
     o.sequences = seq_arg.getValue();
     o.modes = splitList(modes_arg.getValue());

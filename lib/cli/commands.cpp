@@ -19,15 +19,13 @@ namespace dynslam::cli {
 const std::vector<Subcommand>& subcommands() {
   static const std::vector<Subcommand> cmds = {
       {"convert", "convert a TUM RGB-D sequence folder into an MRPT rawlog", convertMain},
-      {"run", "run SLAM on a TUM folder or rawlog; writes trajectory, keyframes, report",
-       runMain},
-      {"eval", "ATE / RPE / coverage of an estimated trajectory against groundtruth",
-       evalMain},
-      {"export", "fuse a run's static keyframes into a dense map (PLY or glTF .glb)",
-       exportMain},
+      {"run", "run SLAM on a TUM folder or rawlog; writes trajectory, keyframes, report", runMain},
+      {"eval", "ATE / RPE / coverage of an estimated trajectory against groundtruth", evalMain},
+      {"export", "fuse a run's static keyframes into a dense map (PLY or glTF .glb)", exportMain},
       {"render", "render an off-screen snapshot (PNG) of a map", renderMain},
       {"vocab", "train an ORB bag-of-words vocabulary, or describe one", vocabMain},
-      {"bench", "benchmark suite: sequences x modes x runs, Markdown/JSON report, plots", benchMain},
+      {"bench", "benchmark suite: sequences x modes x runs, Markdown/JSON report, plots",
+       benchMain},
       {"config", "print the effective config (every key, defaults filled in) as YAML", configMain},
       {"synth", "render a synthetic RGB-D sequence with known poses (TUM folder)", synthMain},
   };
@@ -45,8 +43,8 @@ class ArgumentOutput : public TCLAP::StdOutput {
     std::string id = e.argId();  // "Argument: (--x, --name)" or blank
     if (id.find_first_not_of(' ') == std::string::npos) id.clear();
     std::fprintf(stderr, "%s: error: %s%s%s\nrun '%s --help' for usage\n",
-                 c.getProgramName().c_str(), e.error().c_str(), id.empty() ? "" : " - ",
-                 id.c_str(), c.getProgramName().c_str());
+                 c.getProgramName().c_str(), e.error().c_str(), id.empty() ? "" : " - ", id.c_str(),
+                 c.getProgramName().c_str());
   }
   bool failed = false;
 };
@@ -57,8 +55,8 @@ bool parseArguments(TCLAP::CmdLine& cmd, int argc, char** argv, int& exit_code) 
   // until the command line is gone, so the argument outlives this call.
   static std::vector<std::string> level_names = [] {
     std::vector<std::string> v;
-    for (LogLevel l : {LogLevel::kError, LogLevel::kWarn, LogLevel::kInfo, LogLevel::kDebug,
-                       LogLevel::kTrace})
+    for (LogLevel l :
+         {LogLevel::kError, LogLevel::kWarn, LogLevel::kInfo, LogLevel::kDebug, LogLevel::kTrace})
       v.emplace_back(logLevelName(l));
     return v;
   }();

@@ -20,9 +20,8 @@ int configMain(int argc, char** argv) {
       "key. Sections and keys:\n" +
           slamConfigKeys(),
       ' ', DYNSLAM_VERSION);
-  TCLAP::ValueArg<std::string> config("", "config",
-                                      "config to read (default: configs/dynslam.yaml)", false,
-                                      "", "FILE", cmd);
+  TCLAP::ValueArg<std::string> config(
+      "", "config", "config to read (default: configs/dynslam.yaml)", false, "", "FILE", cmd);
   int exit_code = kOk;
   if (!parseArguments(cmd, argc, argv, exit_code)) return exit_code;
   const std::string path = config.isSet() ? config.getValue() : defaultSlamConfigPath();

@@ -20,22 +20,21 @@ int convertMain(int argc, char** argv) {
       "Nothing is written unless every frame converts. Example: dynslam convert "
       "data/rgbd_dataset_freiburg1_rpy rpy.rawlog",
       ' ', DYNSLAM_VERSION);
-  TCLAP::UnlabeledValueArg<std::string> tum_dir(
-      "TUM_DIR", "TUM RGB-D sequence folder", true, "", "TUM_DIR", cmd);
+  TCLAP::UnlabeledValueArg<std::string> tum_dir("TUM_DIR", "TUM RGB-D sequence folder", true, "",
+                                                "TUM_DIR", cmd);
   TCLAP::UnlabeledValueArg<std::string> out(
-      "OUT", "output rawlog (must end in .rawlog; replaced if it exists)", true, "",
-      "OUT.rawlog", cmd);
+      "OUT", "output rawlog (must end in .rawlog; replaced if it exists)", true, "", "OUT.rawlog",
+      cmd);
   TCLAP::ValueArg<std::string> config(
       "c", "config",
       "camera YAML (see configs/tum_fr1.yaml); default: configs/tum_frN.yaml chosen from "
       "'freiburgN' in TUM_DIR",
       false, "", "CAMERA.yaml", cmd);
   TCLAP::ValueArg<int> max_frames(
-      "n", "max-frames", "convert only the first N RGB-D pairs (default: all)", false, 0, "N",
-      cmd);
-  TCLAP::ValueArg<std::string> label(
-      "", "label", "sensor label stored in each observation (default: RGBD)", false, "RGBD",
-      "LABEL", cmd);
+      "n", "max-frames", "convert only the first N RGB-D pairs (default: all)", false, 0, "N", cmd);
+  TCLAP::ValueArg<std::string> label("", "label",
+                                     "sensor label stored in each observation (default: RGBD)",
+                                     false, "RGBD", "LABEL", cmd);
   TCLAP::SwitchArg quiet("q", "quiet", "no progress line and no summary", cmd);
 
   int exit_code = kOk;

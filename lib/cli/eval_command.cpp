@@ -37,8 +37,8 @@ int evalMain(int argc, char** argv) {
       "TUM sequence folder (rgb.txt, depth.txt): also report the fraction of its associated "
       "RGB-D pairs that have an estimated pose",
       false, "", "TUM_DIR", cmd);
-  TCLAP::SwitchArg json_arg("", "json", "print a JSON document instead of the text report",
-                            cmd, false);
+  TCLAP::SwitchArg json_arg("", "json", "print a JSON document instead of the text report", cmd,
+                            false);
   TCLAP::ValueArg<double> max_dt_arg(
       "", "max-dt",
       "maximum |dt| in seconds when associating estimate with groundtruth (ATE) and with the "
@@ -53,9 +53,9 @@ int evalMain(int argc, char** argv) {
 
   std::vector<double> frames;
   if (seq_arg.isSet()) frames = tumPairTimestamps(seq_arg.getValue());
-  const Evaluation e = evaluateTrajectoryFiles(gt_arg.getValue(), est_arg.getValue(),
-                                               max_dt_arg.getValue(),
-                                               seq_arg.isSet() ? &frames : nullptr);
+  const Evaluation e =
+      evaluateTrajectoryFiles(gt_arg.getValue(), est_arg.getValue(), max_dt_arg.getValue(),
+                              seq_arg.isSet() ? &frames : nullptr);
   const std::string out = json_arg.getValue() ? formatEvaluationJson(e) : formatEvaluationText(e);
   std::fwrite(out.data(), 1, out.size(), stdout);
   return kOk;

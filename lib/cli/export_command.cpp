@@ -1,6 +1,6 @@
 // `dynslam export RUN_DIR -o MAP.ply|MAP.glb|MAP.bt|MAP.yaml`: thin argument
-// layer over lib/mapexport (dense maps) and lib/occupancy (maps to navigate). This file opens the input sequence (data layer), so the
-// exporter library itself never depends on rawlog/.
+// layer over lib/mapexport (dense maps) and lib/occupancy (maps to navigate). This file opens the
+// input sequence (data layer), so the exporter library itself never depends on rawlog/.
 #include <mrpt/3rdparty/tclap/CmdLine.h>
 
 #include <cstdio>
@@ -10,9 +10,9 @@
 #include "cli/commands.h"
 #include "core/atomic_file.h"
 #include "core/errors.h"
+#include "eval/trajectory_eval.h"
 #include "mapexport/dense_map_config.h"
 #include "mapexport/map_data.h"
-#include "eval/trajectory_eval.h"
 #include "mapexport/run_directory.h"
 #include "occupancy/occupancy_export.h"
 #include "rawlog/sequence_source.h"
@@ -51,34 +51,36 @@ void requireOccupancyOutput(const TCLAP::Arg& arg, bool occupancy) {
 }
 
 void printOccupancyExport(const OccupancyExportResult& r) {
-  std::printf("%s: %zu occupied and %zu free cells (%zu occupied before carving, %zu carved) from "
-              "%zu keyframes (%zu rays) in %.2f s (CPU %.2f s), peak %.0f MB\n",
-              r.output.c_str(), r.cells.occupied, r.cells.free, r.stats.occupied_before_carving,
-              r.stats.carved_cells, r.stats.keyframes, r.stats.rays, r.seconds, r.cpu_seconds,
-              r.peak_rss_mb);
-  std::printf("up %.4f,%.4f,%.4f (%s), floor at %.3f m (%s)\n", r.up.up[0], r.up.up[1],
-              r.up.up[2], r.up.source.c_str(), r.level.floor_height, r.level.floor_source.c_str());
+  std::printf(
+      "%s: %zu occupied and %zu free cells (%zu occupied before carving, %zu carved) from "
+      "%zu keyframes (%zu rays) in %.2f s (CPU %.2f s), peak %.0f MB\n",
+      r.output.c_str(), r.cells.occupied, r.cells.free, r.stats.occupied_before_carving,
+      r.stats.carved_cells, r.stats.keyframes, r.stats.rays, r.seconds, r.cpu_seconds,
+      r.peak_rss_mb);
+  std::printf("up %.4f,%.4f,%.4f (%s), floor at %.3f m (%s)\n", r.up.up[0], r.up.up[1], r.up.up[2],
+              r.up.source.c_str(), r.level.floor_height, r.level.floor_source.c_str());
   if (r.grid) {
-    std::printf("grid %dx%d cells of %.3f m: %zu occupied, %zu free, %zu unknown\n",
-                r.grid->width, r.grid->height, r.grid->resolution,
-                r.grid->count(OccupancyGrid2D::kOccupied), r.grid->count(OccupancyGrid2D::kFree),
-                r.grid->count(OccupancyGrid2D::kUnknown));
+    std::printf("grid %dx%d cells of %.3f m: %zu occupied, %zu free, %zu unknown\n", r.grid->width,
+                r.grid->height, r.grid->resolution, r.grid->count(OccupancyGrid2D::kOccupied),
+                r.grid->count(OccupancyGrid2D::kFree), r.grid->count(OccupancyGrid2D::kUnknown));
   }
   if (r.swept) {
-    std::printf("walker_share %.4f %% (%zu of %zu occupied cells in the walkers' swept volume), "
-                "standing-still %.4f %%\n",
-                100 * r.swept->walkerShare(), r.swept->walker_points, r.swept->points,
-                100 * r.swept->standingShare());
+    std::printf(
+        "walker_share %.4f %% (%zu of %zu occupied cells in the walkers' swept volume), "
+        "standing-still %.4f %%\n",
+        100 * r.swept->walkerShare(), r.swept->walker_points, r.swept->points,
+        100 * r.swept->standingShare());
   }
   if (r.reference) {
-    std::printf("reference %s: %.2f %% of its %zu occupied cells in this map, %.2f %% of this "
-                "map's %zu in it (within %d cell)\n",
-                r.reference_path.c_str(), 100 * r.reference->referenceShare(),
-                r.reference->reference_cells, 100 * r.reference->mapShare(),
-                r.reference->map_cells, r.reference->tolerance);
-    std::printf("reference, same cells only: %.2f %% of its cells in this map, %.2f %% of this map's "
-                "in it\n",
-                100 * r.reference_strict->referenceShare(), 100 * r.reference_strict->mapShare());
+    std::printf(
+        "reference %s: %.2f %% of its %zu occupied cells in this map, %.2f %% of this "
+        "map's %zu in it (within %d cell)\n",
+        r.reference_path.c_str(), 100 * r.reference->referenceShare(), r.reference->reference_cells,
+        100 * r.reference->mapShare(), r.reference->map_cells, r.reference->tolerance);
+    std::printf(
+        "reference, same cells only: %.2f %% of its cells in this map, %.2f %% of this map's "
+        "in it\n",
+        100 * r.reference_strict->referenceShare(), 100 * r.reference_strict->mapShare());
   }
   if (!r.report_path.empty()) std::printf("%s: export report\n", r.report_path.c_str());
 }
@@ -108,13 +110,11 @@ int exportMain(int argc, char** argv) {
           "defaults",
       false, "", "YAML", cmd);
   TCLAP::ValueArg<std::string> camera_arg(
-      "", "camera", "camera YAML overriding run_info.yaml's camera_config", false, "",
-      "YAML", cmd);
-  TCLAP::ValueArg<int> stride_arg("", "stride", "use every N-th pixel row and column",
-                                  false, 1, "N", cmd);
-  TCLAP::ValueArg<int> margin_arg("", "mask-margin",
-                                  "grow dynamic masks by this many pixels (default 5)", false,
-                                  5, "PX", cmd);
+      "", "camera", "camera YAML overriding run_info.yaml's camera_config", false, "", "YAML", cmd);
+  TCLAP::ValueArg<int> stride_arg("", "stride", "use every N-th pixel row and column", false, 1,
+                                  "N", cmd);
+  TCLAP::ValueArg<int> margin_arg(
+      "", "mask-margin", "grow dynamic masks by this many pixels (default 5)", false, 5, "PX", cmd);
   TCLAP::SwitchArg no_outliers_arg("", "no-outlier-removal",
                                    "skip statistical outlier removal (faster)", cmd, false);
   TCLAP::SwitchArg no_carving_arg("", "no-carving",
@@ -127,9 +127,8 @@ int exportMain(int argc, char** argv) {
       "ground-truth people masks folder (<rgb name>.png) to score the map against; default "
       "INPUT/masks if the input folder has one; 'none' to skip",
       false, "", "DIR", cmd);
-  TCLAP::SwitchArg no_masks_arg("", "no-masks",
-                                "ignore the run's dynamic masks (people kept, for comparison)",
-                                cmd, false);
+  TCLAP::SwitchArg no_masks_arg(
+      "", "no-masks", "ignore the run's dynamic masks (people kept, for comparison)", cmd, false);
   TCLAP::SwitchArg truth_as_masks_arg(
       "", "truth-as-masks",
       "leave out the ground-truth people masks' pixels instead of the run's dynamic masks "
@@ -170,8 +169,8 @@ int exportMain(int argc, char** argv) {
   } catch (const std::exception& e) {
     throw UsageError(std::string("-o: ") + e.what() + " or .bt / .yaml");
   }
-  for (const TCLAP::Arg* a : std::initializer_list<const TCLAP::Arg*>{
-           &resolution_arg, &floor_arg, &robot_arg, &compare_arg}) {
+  for (const TCLAP::Arg* a : std::initializer_list<const TCLAP::Arg*>{&resolution_arg, &floor_arg,
+                                                                      &robot_arg, &compare_arg}) {
     requireOccupancyOutput(*a, occupancy);
   }
   if (no_masks_arg.getValue() && truth_as_masks_arg.getValue()) {
@@ -220,8 +219,8 @@ int exportMain(int argc, char** argv) {
   validateOccupancyOptions(occupancy_options, "command line");
   if (groundtruth_arg.isSet()) {
     const std::size_t n = run.keyframes.size();
-    run.keyframes = groundtruthInEstimateFrame(readTumTrajectory(groundtruth_arg.getValue()),
-                                               run.keyframes);
+    run.keyframes =
+        groundtruthInEstimateFrame(readTumTrajectory(groundtruth_arg.getValue()), run.keyframes);
     std::fprintf(stderr, "groundtruth poses for %zu of %zu keyframes from %s\n",
                  run.keyframes.size(), n, groundtruth_arg.getValue().c_str());
   }
@@ -235,28 +234,30 @@ int exportMain(int argc, char** argv) {
   if (isDirectory(run.input)) stamps = tumPairTimestamps(run.input);
   ExportOptions eo;
   eo.frame_timestamps = stamps.size() == source->size() ? &stamps : nullptr;
-  if (truth_arg.isSet()) eo.truth_masks_dir = truth_arg.getValue() == "none" ? "" : truth_arg.getValue();
+  if (truth_arg.isSet())
+    eo.truth_masks_dir = truth_arg.getValue() == "none" ? "" : truth_arg.getValue();
   if (no_masks_arg.getValue()) eo.masks = DynamicMaskSource::kNone;
   if (truth_as_masks_arg.getValue()) eo.masks = DynamicMaskSource::kTruth;
   if (occupancy) {
     OccupancyExportOptions oo;
     oo.run = eo;
     oo.reference = compare_arg.getValue();
-    printOccupancyExport(exportOccupancyRun(run, *source, out_arg.getValue(), options,
-                                            occupancy_options, oo));
+    printOccupancyExport(
+        exportOccupancyRun(run, *source, out_arg.getValue(), options, occupancy_options, oo));
     return kOk;
   }
   const ExportResult r = exportRun(run, *source, out_arg.getValue(), options, eo);
-  std::printf("%s: %zu points (%zu back-projected from %zu keyframes, %zu after voxel grid, "
-              "%zu carved in %.2f s) in %.2f s, peak %.0f MB\n",
-              out_arg.getValue().c_str(), r.points_written, r.stats.backprojected_points,
-              r.stats.keyframes, r.stats.after_voxel, r.stats.carved_points,
-              r.stats.carving_seconds, r.seconds, r.peak_rss_mb);
+  std::printf(
+      "%s: %zu points (%zu back-projected from %zu keyframes, %zu after voxel grid, "
+      "%zu carved in %.2f s) in %.2f s, peak %.0f MB\n",
+      out_arg.getValue().c_str(), r.points_written, r.stats.backprojected_points, r.stats.keyframes,
+      r.stats.after_voxel, r.stats.carved_points, r.stats.carving_seconds, r.seconds,
+      r.peak_rss_mb);
   std::printf("up %.4f,%.4f,%.4f (%s; %.1f deg from the keyframe estimate)\n", r.up.up[0],
               r.up.up[1], r.up.up[2], r.up.source.c_str(), r.up.prior_angle_deg);
   if (!r.sparse_path.empty()) {
-    std::printf("%s: %zu sparse map points (%zu carved)\n", r.sparse_path.c_str(),
-                r.sparse_points, r.sparse_carved_points);
+    std::printf("%s: %zu sparse map points (%zu carved)\n", r.sparse_path.c_str(), r.sparse_points,
+                r.sparse_carved_points);
   }
   if (r.dense_truth) {
     std::printf("walker_mask_share %.4f %% (%zu of %zu points), standing-still %.4f %% (%zu)\n",
@@ -265,11 +266,11 @@ int exportMain(int argc, char** argv) {
                 r.dense_truth->standing_points);
   }
   if (r.sparse_truth) {
-    std::printf("sparse walker_mask_share %.4f %% (%zu of %zu observed points, %zu unobserved), "
-                "standing-still %.4f %%\n",
-                100 * r.sparse_truth->walkerShare(), r.sparse_truth->walker_points,
-                r.sparse_truth->points, r.sparse_truth->unobserved_points,
-                100 * r.sparse_truth->standingShare());
+    std::printf(
+        "sparse walker_mask_share %.4f %% (%zu of %zu observed points, %zu unobserved), "
+        "standing-still %.4f %%\n",
+        100 * r.sparse_truth->walkerShare(), r.sparse_truth->walker_points, r.sparse_truth->points,
+        r.sparse_truth->unobserved_points, 100 * r.sparse_truth->standingShare());
   }
   if (!r.report_path.empty()) std::printf("%s: export report\n", r.report_path.c_str());
   return kOk;

@@ -27,7 +27,8 @@ constexpr const char* kDescription =
     "OSMesa software rendering). Named views are framed on the map (median centre, 95 % "
     "radius, keyframes included); 'up' is the normal of the largest floor / desk plane "
     "(RANSAC; the plane must face the cameras and lie within 60 deg of the keyframes' mean "
-    "image-up axis), else that axis, or given with --up. Keyframes come from a .glb map or from --trajectory.";
+    "image-up axis), else that axis, or given with --up. Keyframes come from a .glb map or from "
+    "--trajectory.";
 
 /// "a,b,c" -> three numbers; throws UsageError naming `what`.
 std::array<double, 3> parseTriple(const std::string& text, const std::string& what) {
@@ -38,8 +39,7 @@ std::array<double, 3> parseTriple(const std::string& text, const std::string& wh
   std::array<double, 3> v{};
   std::string rest;
   if (!(in >> v[0] >> v[1] >> v[2]) || (in >> rest)) {
-    throw UsageError(what + ": expected three comma-separated numbers, got '" +
-                                text + "'");
+    throw UsageError(what + ": expected three comma-separated numbers, got '" + text + "'");
   }
   return v;
 }
@@ -49,7 +49,9 @@ std::array<double, 3> parseTriple(const std::string& text, const std::string& wh
 int renderMain(int argc, char** argv) {
   TCLAP::CmdLine cmd(kDescription, ' ', DYNSLAM_VERSION);
   TCLAP::UnlabeledValueArg<std::string> map_arg(
-      "map", "map file (.ply or .glb; .bt: an OctoMap's occupied cells, drawn as cubes coloured by height)",
+      "map",
+      "map file (.ply or .glb; .bt: an OctoMap's occupied cells, drawn as cubes coloured by "
+      "height)",
       true, "", "MAP", cmd);
   TCLAP::ValueArg<std::string> out_arg("o", "output", "PNG file to write", true, "", "OUT.png",
                                        cmd);
@@ -61,8 +63,7 @@ int renderMain(int argc, char** argv) {
       false, "top", "VIEW", cmd);
   TCLAP::ValueArg<int> width_arg("", "width", "image width in pixels", false, 1280, "W", cmd);
   TCLAP::ValueArg<int> height_arg("", "height", "image height in pixels", false, 960, "H", cmd);
-  TCLAP::ValueArg<float> point_arg("", "point-size", "point size in pixels", false, 2.f, "S",
-                                   cmd);
+  TCLAP::ValueArg<float> point_arg("", "point-size", "point size in pixels", false, 2.f, "S", cmd);
   TCLAP::ValueArg<double> fov_arg("", "fov", "vertical field of view in degrees", false, 50.0,
                                   "DEG", cmd);
   TCLAP::ValueArg<std::string> traj_arg(
@@ -70,17 +71,15 @@ int renderMain(int argc, char** argv) {
       "keyframe poses (TUM format, e.g. RUN_DIR/keyframes.txt) to draw, replacing those of a "
       ".glb",
       false, "", "FILE", cmd);
-  TCLAP::ValueArg<std::string> bg_arg("", "background", "background colour R,G,B (0-255)",
-                                      false, "255,255,255", "R,G,B", cmd);
+  TCLAP::ValueArg<std::string> bg_arg("", "background", "background colour R,G,B (0-255)", false,
+                                      "255,255,255", "R,G,B", cmd);
   TCLAP::ValueArg<std::string> up_arg(
       "", "up",
       "world up direction x,y,z (default: floor / desk plane normal, else the keyframes' "
       "image-up axis, else +z)",
       false, "", "X,Y,Z", cmd);
-  TCLAP::SwitchArg no_frustums_arg("", "no-frustums", "do not draw keyframe frustums", cmd,
-                                   false);
-  TCLAP::SwitchArg no_traj_arg("", "no-trajectory", "do not draw the trajectory line", cmd,
-                               false);
+  TCLAP::SwitchArg no_frustums_arg("", "no-frustums", "do not draw keyframe frustums", cmd, false);
+  TCLAP::SwitchArg no_traj_arg("", "no-trajectory", "do not draw the trajectory line", cmd, false);
   int exit_code = kOk;
   if (!parseArguments(cmd, argc, argv, exit_code)) return exit_code;
 
@@ -125,8 +124,8 @@ int renderMain(int argc, char** argv) {
   writePngAtomically(out_arg.getValue(), image);
   std::printf("%s: %dx%d, %zu points, %zu keyframes, view %s, up %.4f,%.4f,%.4f (%s)\n",
               out_arg.getValue().c_str(), image.cols, image.rows, map.points.size(),
-              map.keyframes.size(), view_arg.getValue().c_str(), (*o.up)[0], (*o.up)[1],
-              (*o.up)[2], up_note.c_str());
+              map.keyframes.size(), view_arg.getValue().c_str(), (*o.up)[0], (*o.up)[1], (*o.up)[2],
+              up_note.c_str());
   // The same viewpoint for other maps of the same world frame (e.g. runs of
   // one sequence): pass this back as --view.
   mrpt::math::CQuaternionDouble q;

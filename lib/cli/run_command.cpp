@@ -15,25 +15,28 @@ int runMain(int argc, char** argv) {
   TCLAP::CmdLine cmd(
       "Runs RGB-D SLAM on a TUM RGB-D folder or an MRPT rawlog and writes OUT_DIR/"
       "trajectory.txt (every tracked frame, TUM format, camera-to-world, first frame at "
-      "identity), keyframes.txt, map_points.txt, run_info.yaml, config_used.yaml and report.json. Frames where "
+      "identity), keyframes.txt, map_points.txt, run_info.yaml, config_used.yaml and report.json. "
+      "Frames where "
       "tracking is lost get no pose. Runs repeat: the same input, config and build give "
       "byte-identical outputs whatever the machine's load (report.json depends_on names all "
       "three). A rawlog's range image taken by a separate depth camera "
       "(other intrinsics or a relativePoseIntensityWRTDepth beyond the change of axes) is "
-      "registered to the RGB camera (report.json: input_source). The default configs and the vocabulary are read from "
+      "registered to the RGB camera (report.json: input_source). The default configs and the "
+      "vocabulary are read from "
       "PREFIX/share/dynslam/configs for an installed dynslam ($DYNSLAM_DATA_DIR overrides it), "
       "the detector model from $DYNSLAM_MODELS_DIR or the config's dynamic.detector.model.",
       ' ', DYNSLAM_VERSION);
-  TCLAP::UnlabeledValueArg<std::string> input("INPUT", "TUM sequence folder or .rawlog file",
-                                              true, "", "INPUT", cmd);
+  TCLAP::UnlabeledValueArg<std::string> input("INPUT", "TUM sequence folder or .rawlog file", true,
+                                              "", "INPUT", cmd);
   TCLAP::ValueArg<std::string> out("o", "out", "output folder (created if missing)", true, "",
                                    "OUT_DIR", cmd);
-  TCLAP::ValueArg<std::string> config("", "config",
-                                      "SLAM parameters (default: configs/dynslam.yaml; every key: `dynslam config "
-                                      "--help`); the run writes the effective ones to "
-                                      "OUT_DIR/config_used.yaml, which repeats the run when "
-                                      "given back here", false,
-                                      "", "FILE", cmd);
+  TCLAP::ValueArg<std::string> config(
+      "", "config",
+      "SLAM parameters (default: configs/dynslam.yaml; every key: `dynslam config "
+      "--help`); the run writes the effective ones to "
+      "OUT_DIR/config_used.yaml, which repeats the run when "
+      "given back here",
+      false, "", "FILE", cmd);
   TCLAP::ValueArg<std::string> camera(
       "", "camera",
       "camera YAML (default: picked from the sequence name, or the rawlog's). On a rawlog it "
@@ -54,8 +57,8 @@ int runMain(int argc, char** argv) {
       "default), detect (boxes only), flow (motion check only) or off (plain SLAM)",
       false, "detect+flow", &mode_values, cmd);
   // Signed, so that -1 is seen (as size_t it would wrap to "all frames").
-  TCLAP::ValueArg<long long> max_frames("", "max-frames", "process only the first N frames",
-                                          false, 0, "N", cmd);
+  TCLAP::ValueArg<long long> max_frames("", "max-frames", "process only the first N frames", false,
+                                        0, "N", cmd);
   TCLAP::ValueArg<std::string> map(
       "", "map",
       "start in a map saved by --save-map (docs/map_file.md): the first frame relocalises in it "
@@ -90,10 +93,11 @@ int runMain(int argc, char** argv) {
   o.save_map = save_map.getValue();
   InterruptGuard interrupt;  // Ctrl-C: the frames so far are written
   const RunSummary s = runSlam(o);
-  std::printf("%zu frames, %zu tracked (%.1f %%), %zu keyframes, %zu map points, %.1f frames/s\n"
-              "results in %s\n",
-              s.frames, s.tracked, s.frames ? 100.0 * s.tracked / s.frames : 0.0, s.keyframes,
-              s.map_points, s.fps, o.out_dir.c_str());
+  std::printf(
+      "%zu frames, %zu tracked (%.1f %%), %zu keyframes, %zu map points, %.1f frames/s\n"
+      "results in %s\n",
+      s.frames, s.tracked, s.frames ? 100.0 * s.tracked / s.frames : 0.0, s.keyframes, s.map_points,
+      s.fps, o.out_dir.c_str());
   if (s.interrupted_by) {
     std::fprintf(stderr, "dynslam run: %s after %zu frames; the results hold them\n",
                  Interrupted(s.interrupted_by).what(), s.frames);

@@ -57,17 +57,16 @@ int trainMain(int argc, char** argv) {
   TCLAP::ValueArg<std::string> out_arg("o", "output", "vocabulary file to write", true, "",
                                        "OUT.bin", cmd);
   TCLAP::ValueArg<int> k_arg("", "k", "branching factor (2..255)", false, 10, "K", cmd);
-  TCLAP::ValueArg<int> levels_arg("", "levels", "tree depth L: up to k^L words (1..16)", false,
-                                  5, "L", cmd);
-  TCLAP::ValueArg<int> stride_arg("", "stride",
-                                  "use every N-th image of each folder or sequence", false, 1,
-                                  "N", cmd);
-  TCLAP::ValueArg<int> features_arg("", "max-features", "ORB keypoints per image", false, 1000,
-                                    "N", cmd);
-  TCLAP::ValueArg<int> iterations_arg("", "iterations", "max k-medians iterations per node",
-                                      false, 10, "N", cmd);
-  TCLAP::ValueArg<uint64_t> seed_arg("", "seed", "random seed (same seed, same vocabulary)",
-                                     false, 1, "SEED", cmd);
+  TCLAP::ValueArg<int> levels_arg("", "levels", "tree depth L: up to k^L words (1..16)", false, 5,
+                                  "L", cmd);
+  TCLAP::ValueArg<int> stride_arg("", "stride", "use every N-th image of each folder or sequence",
+                                  false, 1, "N", cmd);
+  TCLAP::ValueArg<int> features_arg("", "max-features", "ORB keypoints per image", false, 1000, "N",
+                                    cmd);
+  TCLAP::ValueArg<int> iterations_arg("", "iterations", "max k-medians iterations per node", false,
+                                      10, "N", cmd);
+  TCLAP::ValueArg<uint64_t> seed_arg("", "seed", "random seed (same seed, same vocabulary)", false,
+                                     1, "SEED", cmd);
   int exit_code = kOk;
   if (!parseArguments(cmd, argc, argv, exit_code)) return exit_code;
   if (!inRange(k_arg, 2, 255, argv[0]) || !inRange(levels_arg, 1, 16, argv[0]) ||
@@ -100,9 +99,9 @@ int trainMain(int argc, char** argv) {
   for (int i = 1; i < argc; ++i) note += std::string(" ") + argv[i];
   t0 = SteadyClock::now();
   ProgressLine train_progress("training, descriptors placed", n_descriptors);
-  const OrbVocabulary voc = trainVocabulary(
-      descriptors, params, note,
-      [&](std::size_t done, std::size_t) { train_progress.update(done); });
+  const OrbVocabulary voc =
+      trainVocabulary(descriptors, params, note,
+                      [&](std::size_t done, std::size_t) { train_progress.update(done); });
   train_progress.finish();
   const double train_s = secondsSince(t0);
   voc.save(out);
@@ -117,20 +116,20 @@ int trainMain(int argc, char** argv) {
 int infoMain(int argc, char** argv) {
   TCLAP::CmdLine cmd("Prints the shape of an ORB vocabulary file and how long it takes to load.",
                      ' ', DYNSLAM_VERSION);
-  TCLAP::UnlabeledValueArg<std::string> file_arg("file", "vocabulary file", true, "", "FILE",
-                                                 cmd);
+  TCLAP::UnlabeledValueArg<std::string> file_arg("file", "vocabulary file", true, "", "FILE", cmd);
   int exit_code = kOk;
   if (!parseArguments(cmd, argc, argv, exit_code)) return exit_code;
   const std::string path = file_arg.getValue();
   const auto t0 = SteadyClock::now();
   const OrbVocabulary voc = OrbVocabulary::load(path);
   const double load_ms = secondsSince(t0) * 1e3;
-  std::printf("%s\n  branching k   %d\n  levels L      %d\n  nodes         %zu\n"
-              "  words         %zu\n  file size     %.2f MB\n  load time     %.1f ms\n"
-              "  recipe        %s\n",
-              path.c_str(), voc.branching(), voc.levels(), voc.nodes(), voc.words(),
-              static_cast<double>(std::filesystem::file_size(path)) / 1e6, load_ms,
-              voc.note().empty() ? "(none recorded)" : voc.note().c_str());
+  std::printf(
+      "%s\n  branching k   %d\n  levels L      %d\n  nodes         %zu\n"
+      "  words         %zu\n  file size     %.2f MB\n  load time     %.1f ms\n"
+      "  recipe        %s\n",
+      path.c_str(), voc.branching(), voc.levels(), voc.nodes(), voc.words(),
+      static_cast<double>(std::filesystem::file_size(path)) / 1e6, load_ms,
+      voc.note().empty() ? "(none recorded)" : voc.note().c_str());
   return kOk;
 }
 
@@ -144,8 +143,10 @@ int vocabMain(int argc, char** argv) {
   }
   int (*sub)(int, char**) = action == "train" ? trainMain : action == "info" ? infoMain : nullptr;
   if (!sub) {
-    if (action.empty()) std::fprintf(stderr, "%s: error: missing action (train or info)\n", argv[0]);
-    else std::fprintf(stderr, "%s: error: unknown action '%s'\n", argv[0], action.c_str());
+    if (action.empty())
+      std::fprintf(stderr, "%s: error: missing action (train or info)\n", argv[0]);
+    else
+      std::fprintf(stderr, "%s: error: unknown action '%s'\n", argv[0], action.c_str());
     std::fputs(kUsageText, stderr);
     return kUsage;
   }

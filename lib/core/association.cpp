@@ -8,8 +8,8 @@
 namespace dynslam {
 
 std::vector<std::pair<std::size_t, std::size_t>> associateTimestamps(
-    const std::vector<double>& first, const std::vector<double>& second,
-    double max_difference, double offset) {
+    const std::vector<double>& first, const std::vector<double>& second, double max_difference,
+    double offset) {
   // Candidate pairs, found through the sorted second list instead of the
   // all-pairs loop of associate.py (same candidates, O(n log n)).
   std::vector<std::size_t> order(second.size());
@@ -40,9 +40,8 @@ std::vector<std::pair<std::size_t, std::size_t>> associateTimestamps(
     used1[i] = used2[j] = true;
     matches.emplace_back(i, j);
   }
-  std::sort(matches.begin(), matches.end(), [&](const auto& x, const auto& y) {
-    return first[x.first] < first[y.first];
-  });
+  std::sort(matches.begin(), matches.end(),
+            [&](const auto& x, const auto& y) { return first[x.first] < first[y.first]; });
   return matches;
 }
 

@@ -4,8 +4,8 @@
 
 #include <atomic>
 #include <cerrno>
-#include <cstring>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <stdexcept>
@@ -17,8 +17,7 @@ namespace {
 std::string tempNameFor(const std::string& final_path) {
   static std::atomic<unsigned> counter{0};
   const fs::path p(final_path);
-  const std::string name = "." + p.filename().string() + ".tmp" +
-                           std::to_string(::getpid()) + "_" +
+  const std::string name = "." + p.filename().string() + ".tmp" + std::to_string(::getpid()) + "_" +
                            std::to_string(counter++);
   return (p.parent_path() / name).string();
 }
@@ -43,8 +42,7 @@ void AtomicPath::commit() {
   committed_ = true;
 }
 
-void writeFileAtomically(const std::string& path,
-                         const std::function<void(std::ostream&)>& writer,
+void writeFileAtomically(const std::string& path, const std::function<void(std::ostream&)>& writer,
                          bool binary) {
   AtomicPath out(path);
   {
@@ -75,8 +73,7 @@ void makeDirectories(const std::string& path) {
   std::error_code ec;
   fs::create_directories(path, ec);
   if (ec || !isDirectory(path)) {
-    throw std::runtime_error(path + ": cannot create directory (" +
-                             ec.message() + ")");
+    throw std::runtime_error(path + ": cannot create directory (" + ec.message() + ")");
   }
 }
 

@@ -32,8 +32,7 @@ class AtomicPath {
 
 /// Writes a text/binary file atomically through a stream callback.
 /// Throws std::runtime_error naming the path if the file cannot be written.
-void writeFileAtomically(const std::string& path,
-                         const std::function<void(std::ostream&)>& writer,
+void writeFileAtomically(const std::string& path, const std::function<void(std::ostream&)>& writer,
                          bool binary = false);
 
 bool fileExists(const std::string& path);

@@ -26,8 +26,8 @@ mrpt::img::TCamera PinholeCamera::toMrpt() const {
   c.ncols = static_cast<uint32_t>(width);
   c.nrows = static_cast<uint32_t>(height);
   c.setIntrinsicParamsFromValues(fx, fy, cx, cy);
-  c.distortion = hasDistortion() ? mrpt::img::DistortionModel::plumb_bob
-                                 : mrpt::img::DistortionModel::none;
+  c.distortion =
+      hasDistortion() ? mrpt::img::DistortionModel::plumb_bob : mrpt::img::DistortionModel::none;
   for (int i = 0; i < 5; ++i) c.dist[i] = dist[i];
   c.cameraName = name;
   return c;
@@ -58,8 +58,7 @@ bool PinholeCamera::sameGeometry(const PinholeCamera& o) const {
 }
 
 void PinholeCamera::validate(const std::string& source) const {
-  if (width <= 0 || height <= 0)
-    throw InputError(source, "image width/height must be positive");
+  if (width <= 0 || height <= 0) throw InputError(source, "image width/height must be positive");
   if (!(fx > 0) || !(fy > 0) || !std::isfinite(fx) || !std::isfinite(fy))
     throw InputError(source, "focal lengths fx, fy must be positive");
   if (!(cx > 0 && cx < width) || !(cy > 0 && cy < height))
@@ -101,11 +100,11 @@ PinholeCamera loadCameraYaml(const std::string& path) {
 std::string cameraConfigForSequence(const std::string& sequence_path) {
   // A sequence that carries its calibration (rendered ones: dynslam synth).
   const std::filesystem::path own = std::filesystem::path(sequence_path) / "camera.yaml";
-  if (std::filesystem::is_directory(sequence_path) && std::filesystem::is_regular_file(own)) return own.string();
+  if (std::filesystem::is_directory(sequence_path) && std::filesystem::is_regular_file(own))
+    return own.string();
   static const std::regex re("(freiburg|fr)([123])", std::regex::icase);
   std::smatch m;
-  const std::string name =
-      std::filesystem::path(sequence_path).lexically_normal().string();
+  const std::string name = std::filesystem::path(sequence_path).lexically_normal().string();
   if (!std::regex_search(name, m, re)) {
     throw InputError(sequence_path,
                      "cannot tell the camera from the name (no freiburg1/2/3); "

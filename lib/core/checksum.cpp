@@ -26,7 +26,8 @@ uLong update(uLong crc, const char* data, std::size_t n) {
 
 uint32_t crc32Of(const std::string& bytes, std::size_t offset) {
   offset = std::min(offset, bytes.size());
-  return static_cast<uint32_t>(update(crc32(0L, Z_NULL, 0), bytes.data() + offset, bytes.size() - offset));
+  return static_cast<uint32_t>(
+      update(crc32(0L, Z_NULL, 0), bytes.data() + offset, bytes.size() - offset));
 }
 
 uint32_t crc32OfFile(const std::string& path) { return crc32OfFiles({path}); }

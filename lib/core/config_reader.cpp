@@ -34,8 +34,8 @@ ConfigSection::ConfigSection(const mrpt::containers::yaml& node, std::string fil
                              std::string section)
     : node_(node), file_(std::move(file)), section_(std::move(section)) {
   if (!node_.isNullNode() && !node_.empty() && !node_.isMap())
-    throw InputError(file_, (section_.empty() ? "the file" : section_) +
-                                ": expected a map of key: value");
+    throw InputError(file_,
+                     (section_.empty() ? "the file" : section_) + ": expected a map of key: value");
 }
 
 bool ConfigSection::has(const std::string& key) const {
@@ -67,8 +67,8 @@ void ConfigSection::rejectUnknownKeys() const {
   for (const auto& [k, v] : node_.asMap()) {
     const std::string key = k.as<std::string>();
     if (!known_.count(key))
-      throw InputError(file_, "unknown parameter '" +
-                                  (section_.empty() ? key : section_ + "." + key) + "'");
+      throw InputError(
+          file_, "unknown parameter '" + (section_.empty() ? key : section_ + "." + key) + "'");
   }
 }
 
@@ -106,8 +106,9 @@ mrpt::containers::yaml loadYamlFile(const std::string& path) {
     std::ifstream text(path);
     const DuplicateKey d = findDuplicateKey(text);
     if (d.line)
-      throw InputError(path, d.line, "duplicate key '" + d.key + "' (first on line " +
-                                         std::to_string(d.first_line) + ")");
+      throw InputError(
+          path, d.line,
+          "duplicate key '" + d.key + "' (first on line " + std::to_string(d.first_line) + ")");
   }
   mrpt::containers::yaml y;
   std::string diagnostics;

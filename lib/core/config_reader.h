@@ -8,8 +8,8 @@
 #include <limits>
 #include <set>
 #include <stdexcept>
-#include <type_traits>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "core/errors.h"
@@ -38,8 +38,10 @@ class ConfigSection {
     try {
       if constexpr (std::is_same_v<T, bool>) {
         const std::string v = node_[key].as<std::string>();
-        if (v == "true" || v == "false") value = (v == "true");
-        else throw std::invalid_argument(v);
+        if (v == "true" || v == "false")
+          value = (v == "true");
+        else
+          throw std::invalid_argument(v);
       } else if constexpr (std::is_integral_v<T>) {
         // yaml::as<int> would silently truncate 2.5 to 2 (and 1e12 to garbage).
         const double v = parseConfigNumber(scalarText(node_[key]));
@@ -79,9 +81,8 @@ class ConfigSection {
 template <class ForEach>
 std::string optionKeyList(ForEach&& for_each) {
   std::string keys;
-  for_each([&](const char* key, const auto&) {
-    keys += keys.empty() ? key : std::string(", ") + key;
-  });
+  for_each(
+      [&](const char* key, const auto&) { keys += keys.empty() ? key : std::string(", ") + key; });
   return keys;
 }
 

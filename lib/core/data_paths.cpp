@@ -42,8 +42,9 @@ bool runningInstalled() {
 std::string dataDir() {
   if (const std::string d = env("DYNSLAM_DATA_DIR"); !d.empty()) {
     if (!hasConfigs(d))
-      throw InputError(d, "DYNSLAM_DATA_DIR: no configs/ folder here (expected the "
-                          "installed share/dynslam or a source tree)");
+      throw InputError(d,
+                       "DYNSLAM_DATA_DIR: no configs/ folder here (expected the "
+                       "installed share/dynslam or a source tree)");
     return d;
   }
   if (runningInstalled()) return installedDataDir().string();

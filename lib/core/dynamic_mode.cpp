@@ -14,10 +14,14 @@ constexpr std::array<DynamicMode, 4> kModes = {DynamicMode::kOff, DynamicMode::k
 
 const char* dynamicModeName(DynamicMode mode) {
   switch (mode) {
-    case DynamicMode::kOff: return "off";
-    case DynamicMode::kDetect: return "detect";
-    case DynamicMode::kFlow: return "flow";
-    case DynamicMode::kDetectAndFlow: return "detect+flow";
+    case DynamicMode::kOff:
+      return "off";
+    case DynamicMode::kDetect:
+      return "detect";
+    case DynamicMode::kFlow:
+      return "flow";
+    case DynamicMode::kDetectAndFlow:
+      return "detect+flow";
   }
   throw std::invalid_argument("dynamicModeName: not a DynamicMode");
 }

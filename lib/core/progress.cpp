@@ -21,8 +21,8 @@ void ProgressLine::update(std::size_t done, const std::string& extra) {
   const double secs = std::chrono::duration<double>(now - start_).count();
   const double rate = secs > 0 ? done / secs : 0.0;
   const double eta = rate > 0 ? (total_ - done) / rate : 0.0;
-  std::fprintf(stderr, "\r%s %zu/%zu  %.1f/s  ETA %.0f s %s\033[K", label_.c_str(),
-               done, total_, rate, eta, extra.c_str());
+  std::fprintf(stderr, "\r%s %zu/%zu  %.1f/s  ETA %.0f s %s\033[K", label_.c_str(), done, total_,
+               rate, eta, extra.c_str());
   std::fflush(stderr);
   drawn_ = true;
 }

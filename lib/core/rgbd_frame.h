@@ -12,18 +12,18 @@
 namespace dynslam {
 
 struct RGBDFrame {
-  std::size_t index = 0;      ///< 0-based position in the sequence
-  double timestamp = 0;       ///< RGB timestamp (s); trajectories use it
-  double depth_timestamp = 0; ///< depth timestamp (s)
-  cv::Mat rgb;                ///< CV_8UC3, BGR (OpenCV order)
-  cv::Mat depth;              ///< CV_16UC1 raw units (camera().depth_scale per metre)
-  std::string rgb_source;     ///< file the RGB came from (for messages, export)
+  std::size_t index = 0;       ///< 0-based position in the sequence
+  double timestamp = 0;        ///< RGB timestamp (s); trajectories use it
+  double depth_timestamp = 0;  ///< depth timestamp (s)
+  cv::Mat rgb;                 ///< CV_8UC3, BGR (OpenCV order)
+  cv::Mat depth;               ///< CV_16UC1 raw units (camera().depth_scale per metre)
+  std::string rgb_source;      ///< file the RGB came from (for messages, export)
   std::string depth_source;
 };
 
 /// What a source did to its input beyond reading frames (for the run report).
 struct SourceNotes {
-  std::string sensor;  ///< the rawlog sensor label whose frames are used ("" for TUM)
+  std::string sensor;              ///< the rawlog sensor label whose frames are used ("" for TUM)
   bool depth_registered = false;   ///< depth re-projected from a depth camera into the RGB camera
   std::string depth_registration;  ///< how (one line; empty when not registered)
   std::string depth_units;         ///< where depth_scale came from ("rangeUnits", a camera YAML)

@@ -54,8 +54,9 @@ StagedFolder::StagedFolder(std::string final_dir, const std::vector<std::string>
     bool empty = fs::is_empty(f, ec), ours = false;
     for (const auto& m : markers) ours = ours || fs::exists(f / m, ec);
     if (!empty && !ours)
-      throw InputError(final_, "folder is not empty and holds no earlier output to replace; "
-                               "choose an empty or new folder");
+      throw InputError(final_,
+                       "folder is not empty and holds no earlier output to replace; "
+                       "choose an empty or new folder");
   }
   const fs::path parent = f.parent_path().empty() ? fs::path(".") : f.parent_path();
   fs::create_directories(parent, ec);
@@ -63,7 +64,8 @@ StagedFolder::StagedFolder(std::string final_dir, const std::vector<std::string>
   removeStaleStaging(f);
   const fs::path s = stagingPath(f, long(::getpid()));
   fs::remove_all(s, ec);
-  if (!fs::create_directory(s, ec)) throw InputError(s.string(), "cannot create folder: " + ec.message());
+  if (!fs::create_directory(s, ec))
+    throw InputError(s.string(), "cannot create folder: " + ec.message());
   staging_ = s.string();
 }
 

@@ -13,7 +13,8 @@ StderrCapture::StderrCapture() {
   std::fflush(stderr);
   std::error_code ec;
   const std::filesystem::path dir = std::filesystem::temp_directory_path(ec);
-  std::string name = (ec ? std::filesystem::path("/tmp") : dir).string() + "/.dynslam_stderr_XXXXXX";
+  std::string name =
+      (ec ? std::filesystem::path("/tmp") : dir).string() + "/.dynslam_stderr_XXXXXX";
   capture_fd_ = ::mkstemp(name.data());
   if (capture_fd_ < 0) return;
   ::unlink(name.c_str());  // no file left behind, whatever happens

@@ -23,8 +23,7 @@ double TextLine::number(std::size_t i) const {
   return v;
 }
 
-std::vector<double> TextLine::numbers(std::size_t min_fields,
-                                      std::size_t max_fields) const {
+std::vector<double> TextLine::numbers(std::size_t min_fields, std::size_t max_fields) const {
   if (fields_.size() < min_fields)
     fail("expected " + std::to_string(min_fields) + " fields, found " +
          std::to_string(fields_.size()));
@@ -36,12 +35,9 @@ std::vector<double> TextLine::numbers(std::size_t min_fields,
   return v;
 }
 
-void TextLine::fail(const std::string& what) const {
-  throw InputError(file_, number_, what);
-}
+void TextLine::fail(const std::string& what) const { throw InputError(file_, number_, what); }
 
-void forEachDataLine(const std::string& path,
-                     const std::function<void(const TextLine&)>& fn) {
+void forEachDataLine(const std::string& path, const std::function<void(const TextLine&)>& fn) {
   if (isDirectory(path)) throw InputError(path, "is a directory, expected a text file");
   std::ifstream f(path);
   if (!f) throw InputError(path, "cannot open (missing or unreadable)");

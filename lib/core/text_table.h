@@ -33,7 +33,6 @@ class TextLine {
 
 /// Calls fn for every non-blank line not starting with '#'.
 /// Throws InputError(path, "cannot open") if the file cannot be read.
-void forEachDataLine(const std::string& path,
-                     const std::function<void(const TextLine&)>& fn);
+void forEachDataLine(const std::string& path, const std::function<void(const TextLine&)>& fn);
 
 }  // namespace dynslam

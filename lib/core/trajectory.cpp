@@ -21,8 +21,7 @@ Trajectory readTumTrajectory(const std::string& path) {
       if (!std::isfinite(x)) line.fail("non-finite value");
     const double qn = std::sqrt(v[4] * v[4] + v[5] * v[5] + v[6] * v[6] + v[7] * v[7]);
     if (!(std::abs(qn - 1.0) <= 0.1))
-      line.fail("quaternion qx qy qz qw has norm " + std::to_string(qn) +
-                " (expected 1)");
+      line.fail("quaternion qx qy qz qw has norm " + std::to_string(qn) + " (expected 1)");
     if (!traj.empty() && !(v[0] > traj.back().timestamp))
       line.fail("timestamp " + line.field(0) + " is not after the previous one");
     mrpt::math::CQuaternionDouble q(v[7] / qn, v[4] / qn, v[5] / qn, v[6] / qn);
@@ -37,9 +36,8 @@ std::string formatTumLine(const StampedPose& p) {
   // Keep qw >= 0 for a canonical sign (q and -q are the same rotation).
   const double s = q.r() < 0 ? -1.0 : 1.0;
   char buf[256];
-  std::snprintf(buf, sizeof buf, "%.6f %.7f %.7f %.7f %.7f %.7f %.7f %.7f",
-                p.timestamp, p.pose.x(), p.pose.y(), p.pose.z(), s * q.x(),
-                s * q.y(), s * q.z(), s * q.r());
+  std::snprintf(buf, sizeof buf, "%.6f %.7f %.7f %.7f %.7f %.7f %.7f %.7f", p.timestamp, p.pose.x(),
+                p.pose.y(), p.pose.z(), s * q.x(), s * q.y(), s * q.z(), s * q.r());
   return buf;
 }
 

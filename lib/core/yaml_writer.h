@@ -29,7 +29,9 @@ class YamlWriter {
   YamlWriter& value(const std::string& key, bool v) { return line(key, v ? "true" : "false"); }
   YamlWriter& value(const std::string& key, double v) { return line(key, exactNumberText(v)); }
   YamlWriter& value(const std::string& key, float v) { return line(key, exactNumberText(v)); }
-  YamlWriter& value(const std::string& key, const std::string& v) { return line(key, yamlQuote(v)); }
+  YamlWriter& value(const std::string& key, const std::string& v) {
+    return line(key, yamlQuote(v));
+  }
   YamlWriter& value(const std::string& key, const char* v) { return line(key, yamlQuote(v)); }
   /// A flow list of quoted strings: ["a", "b"].
   YamlWriter& value(const std::string& key, const std::vector<std::string>& v);

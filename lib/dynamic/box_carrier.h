@@ -45,8 +45,8 @@ struct FlowStep {
 };
 
 struct CarriedBox {
-  Detection det;             ///< box in the coordinates of the current frame
-  long detected_frame = 0;   ///< frame the detector saw it in
+  Detection det;            ///< box in the coordinates of the current frame
+  long detected_frame = 0;  ///< frame the detector saw it in
 };
 
 class BoxCarrier {

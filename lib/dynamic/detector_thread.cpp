@@ -30,7 +30,8 @@ void DetectorThread::loop() {
     {
       std::unique_lock<std::mutex> lk(m_);
       auto next = [&] {
-        return std::find_if(jobs_.begin(), jobs_.end(), [](const Job& j) { return !j.done && !j.bgr.empty(); });
+        return std::find_if(jobs_.begin(), jobs_.end(),
+                            [](const Job& j) { return !j.done && !j.bgr.empty(); });
       };
       cv_.wait(lk, [&] { return stop_ || next() != jobs_.end(); });
       if (stop_) return;

@@ -55,7 +55,7 @@ class DetectorThread {
   std::optional<long> last_submitted_;  ///< the last frame queued
   mutable std::mutex m_;
   std::condition_variable cv_;
-  std::deque<Job> jobs_;    ///< queued frames in order; the done ones first
+  std::deque<Job> jobs_;  ///< queued frames in order; the done ones first
   std::size_t runs_ = 0;
   bool stop_ = false;
   bool failed_ = false;

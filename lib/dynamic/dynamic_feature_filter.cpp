@@ -21,9 +21,9 @@ namespace {
 /// positions in the current frame (the previous raw position moved by the
 /// undistorted prediction).
 std::vector<cv::Point2f> coveredTracksNow(const std::vector<cv::Point2f>& prev_points,
-                                          const std::vector<uint8_t>& tracked, const cv::Mat& prev_depth,
-                                          const cv::Mat& cur_depth, const PinholeCamera& camera,
-                                          const CameraMotion& motion) {
+                                          const std::vector<uint8_t>& tracked,
+                                          const cv::Mat& prev_depth, const cv::Mat& cur_depth,
+                                          const PinholeCamera& camera, const CameraMotion& motion) {
   std::vector<cv::Point2f> lost;
   for (std::size_t i = 0; i < prev_points.size(); ++i)
     if (i >= tracked.size() || !tracked[i]) lost.push_back(prev_points[i]);
@@ -38,7 +38,8 @@ std::vector<cv::Point2f> coveredTracksNow(const std::vector<cv::Point2f>& prev_p
     const cv::Vec3d Y = motion.R * cv::Vec3d(X.x, X.y, X.z) + motion.t;
     if (Y[2] <= 0) continue;
     const cv::Vec3d p = K * (Y / Y[2]);
-    const cv::Point2f q(lost[k].x + float(p[0] - c.prev[k].x), lost[k].y + float(p[1] - c.prev[k].y));
+    const cv::Point2f q(lost[k].x + float(p[0] - c.prev[k].x),
+                        lost[k].y + float(p[1] - c.prev[k].y));
     const int u = cvRound(q.x), v = cvRound(q.y);
     if (u < 0 || v < 0 || u >= cur_depth.cols || v >= cur_depth.rows) continue;
     const double z_now = cur_depth.at<uint16_t>(v, u) / camera.depth_scale;
@@ -53,10 +54,10 @@ std::vector<cv::Point2f> coveredTracksNow(const std::vector<cv::Point2f>& prev_p
 /// yet. (Where the previous frame had nothing - the edge the camera turns
 /// towards - or lost tracks to blur, keypoints stay judged.)
 std::vector<uint8_t> keypointsOnCoveredTracks(const std::vector<cv::KeyPoint>& keys,
-                                           const std::vector<cv::Point2f>& points,
-                                           const std::vector<uint8_t>& tracked,
-                                           const std::vector<cv::Point2f>& covered_now, cv::Size size,
-                                           double radius) {
+                                              const std::vector<cv::Point2f>& points,
+                                              const std::vector<uint8_t>& tracked,
+                                              const std::vector<cv::Point2f>& covered_now,
+                                              cv::Size size, double radius) {
   cv::Mat near_tracked = cv::Mat::zeros(size, CV_8U), near_lost = cv::Mat::zeros(size, CV_8U);
   const int r = std::max(1, int(std::lround(radius)));
   for (std::size_t i = 0; i < points.size() && i < tracked.size(); ++i)
@@ -115,16 +116,14 @@ DynamicFeatureFilter::~DynamicFeatureFilter() {
   }
 }
 
-std::size_t DynamicFeatureFilter::detectorRuns() const {
-  return detector_ ? detector_->runs() : 0;
-}
+std::size_t DynamicFeatureFilter::detectorRuns() const { return detector_ ? detector_->runs() : 0; }
 
 void DynamicFeatureFilter::selectFlowPoints(const std::vector<cv::KeyPoint>& keypoints,
                                             const std::vector<cv::Point2f>& carried,
                                             const std::vector<uint8_t>& carried_age) {
   const std::size_t n = keypoints.size();
-  const std::size_t cap = p_.max_flow_points > 0 ? std::size_t(p_.max_flow_points)
-                                                 : n + carried.size();
+  const std::size_t cap =
+      p_.max_flow_points > 0 ? std::size_t(p_.max_flow_points) : n + carried.size();
   // Carried dynamic points first: they keep the walker's region alive.
   prev_points_.assign(carried.begin(), carried.begin() + std::min(cap, carried.size()));
   prev_age_.assign(carried_age.begin(), carried_age.begin() + prev_points_.size());
@@ -208,8 +207,10 @@ cv::Mat DynamicFeatureFilter::prepare(const RGBDFrame& frame, const cv::Mat& gra
                                               cur.depth, camera_, boxes_now_, gray.size());
     if (fit.geometry.reliable &&
         mapInliersFlagged(prev_map_inlier_, fit.dynamic, tracked) <= p_.max_map_inliers_flagged) {
-      if (pre.mask.empty()) pre.mask = fit.mask.clone();
-      else pre.mask |= fit.mask;
+      if (pre.mask.empty())
+        pre.mask = fit.mask.clone();
+      else
+        pre.mask |= fit.mask;
       for (std::size_t i = 0; i < tracked.size(); ++i)
         if (tracked[i] && fit.dynamic[i]) pre.moving.push_back(cur_points[i]);
     }
@@ -250,8 +251,9 @@ void DynamicFeatureFilter::process(const RGBDFrame&, const cv::Mat&,
   std::fill(dynamic.begin(), dynamic.end(), 0);
   const std::size_t flagged = flagOnMask(keypoints, dynamic);
   if (judge_.frame == frame_) judge_.keypoints = keypoints;
-  logf(LogLevel::kTrace, "dynamic", "frame %ld: %zu keypoints, %zu pre-flagged, %zu boxes, %zu carried",
-                 frame_, keypoints.size(), flagged, boxes_now_.size(), pre_carried_.size());
+  logf(LogLevel::kTrace, "dynamic",
+       "frame %ld: %zu keypoints, %zu pre-flagged, %zu boxes, %zu carried", frame_,
+       keypoints.size(), flagged, boxes_now_.size(), pre_carried_.size());
   // Untracked frames go on from the carried points, one frame older;
   // frameTracked() replaces them with the new judgement's.
   selectFlowPoints(keypoints, pre_carried_, pre_carried_age_);
@@ -265,8 +267,7 @@ void DynamicFeatureFilter::writeDebugImage(const cv::Mat& box_mask, const cv::Ma
   if (debug_dir_.empty()) return;
   // Diagnostics: B = box mask, G = grown regions, R = everything before dilation.
   cv::Mat planes[3] = {box_mask.empty() ? cv::Mat::zeros(mask_.size(), CV_8U) : box_mask.clone(),
-                       regions.empty() ? cv::Mat::zeros(mask_.size(), CV_8U) : regions,
-                       undilated_};
+                       regions.empty() ? cv::Mat::zeros(mask_.size(), CV_8U) : regions, undilated_};
   for (const auto& b : boxes_now_) cv::rectangle(planes[0], cv::Rect(b.box), cv::Scalar(128), 2);
   cv::Mat bgr;
   cv::merge(planes, 3, bgr);
@@ -353,18 +354,19 @@ bool DynamicFeatureFilter::judge(const cv::Matx44d& prev_pose_wc, const TrackedP
   if (inliers_flagged > p_.max_map_inliers_flagged) {
     ++rejected_judgements_;
     mask_ = before;
-    logf(LogLevel::kTrace, "dynamic", "frame %ld: judgement rejected: %.2f of the map inliers flagged",
-                   frame_, inliers_flagged);
+    logf(LogLevel::kTrace, "dynamic",
+         "frame %ld: judgement rejected: %.2f of the map inliers flagged", frame_, inliers_flagged);
     return false;
   }
   dynamic = std::move(verdict);
   // One track spacing: the image area per LK point of this judgement.
   const cv::Size size = j.cur_depth.size();
-  const double spacing = std::sqrt(double(size.area()) / double(std::max<std::size_t>(1, j.prev_points.size())));
-  unjudged_ = keypointsOnCoveredTracks(j.keypoints, j.cur_points, ev.r.tracked,
-                                    coveredTracksNow(j.prev_points, ev.r.tracked, j.prev_depth,
-                                                     j.cur_depth, camera_, known),
-                                    size, spacing);
+  const double spacing =
+      std::sqrt(double(size.area()) / double(std::max<std::size_t>(1, j.prev_points.size())));
+  unjudged_ = keypointsOnCoveredTracks(
+      j.keypoints, j.cur_points, ev.r.tracked,
+      coveredTracksNow(j.prev_points, ev.r.tracked, j.prev_depth, j.cur_depth, camera_, known),
+      size, spacing);
   const std::size_t unjudged = std::size_t(std::count(unjudged_.begin(), unjudged_.end(), 1));
   unjudged_count_ += unjudged;
   // The flags are the judgement's; the pixel mask (lastMask(), what the
@@ -373,8 +375,9 @@ bool DynamicFeatureFilter::judge(const cv::Matx44d& prev_pose_wc, const TrackedP
   mask_ |= before;
   ++judged_frames_;
   writeDebugImage(j.box_mask, ev.mask);
-  logf(LogLevel::kTrace, "dynamic", "frame %ld: judged under the tracker's motion: %zu flagged, %zu unjudged",
-                 frame_, flagged, unjudged);
+  logf(LogLevel::kTrace, "dynamic",
+       "frame %ld: judged under the tracker's motion: %zu flagged, %zu unjudged", frame_, flagged,
+       unjudged);
   // The next frame goes on from these verdicts.
   selectFlowPoints(j.keypoints, ev.carried, ev.carried_age);
   prev_motion_mask_ = ev.mask;
@@ -407,7 +410,8 @@ cv::Mat DynamicFeatureFilter::boxMask(const RGBDFrame& frame,
       if (!boxes_now_[b].box.contains(q)) continue;
       const int u = cvRound(q.x), v = cvRound(q.y);
       if (u < 0 || v < 0 || u >= frame.depth.cols || v >= frame.depth.rows) continue;
-      if (const uint16_t d = frame.depth.at<uint16_t>(v, u)) z.push_back(float(d / camera_.depth_scale));
+      if (const uint16_t d = frame.depth.at<uint16_t>(v, u))
+        z.push_back(float(d / camera_.depth_scale));
     }
     if (p_.min_hint_points > 0 && int(z.size()) >= p_.min_hint_points) {
       std::nth_element(z.begin(), z.begin() + z.size() / 2, z.end());

@@ -105,8 +105,7 @@ class DynamicFeatureFilter : public ObservationPreprocessor {
   /// Phase 2: flags the keypoints on the pre-flag mask (std::logic_error
   /// unless prepare() ran for this frame).
   void process(const RGBDFrame& frame, const cv::Mat& gray,
-               const std::vector<cv::KeyPoint>& keypoints,
-               std::vector<uint8_t>& dynamic) override;
+               const std::vector<cv::KeyPoint>& keypoints, std::vector<uint8_t>& dynamic) override;
   /// Judges the frame's tracked points under the tracker's camera motion
   /// into it (when this frame and the one before have a pose): the new flags
   /// replace the pre-flags of process() and seed the next frame. Returns
@@ -182,7 +181,7 @@ class DynamicFeatureFilter : public ObservationPreprocessor {
   BoxCarrier carrier_;
   MotionConsistencyCheck motion_;
   MotionFrame prev_, cur_;
-  long prepared_frame_ = -1;  // frame prepare() ran for, until process()
+  long prepared_frame_ = -1;              // frame prepare() ran for, until process()
   std::vector<cv::Point2f> pre_carried_;  // prepare()'s carried points, for process()
   std::vector<uint8_t> pre_carried_age_;
   double prepare_ms_ = 0;

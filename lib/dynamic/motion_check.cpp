@@ -59,8 +59,8 @@ std::vector<cv::Point2f> MotionConsistencyCheck::track(const MotionFrame& prev,
                               params_.lk_iterations, 0.01);
   std::vector<uint8_t> st_f, st_b;
   std::vector<float> err;
-  cv::calcOpticalFlowPyrLK(prev.pyramid, cur.pyramid, p0, p1, st_f, err, win,
-                           params_.lk_max_level, crit);
+  cv::calcOpticalFlowPyrLK(prev.pyramid, cur.pyramid, p0, p1, st_f, err, win, params_.lk_max_level,
+                           crit);
   std::vector<int> fwd_ok;
   std::vector<cv::Point2f> fwd_pts, back_pts;
   for (std::size_t i = 0; i < n; ++i)
@@ -141,8 +141,7 @@ MotionResult MotionConsistencyCheck::classify(
   std::vector<cv::Point2f> seeds;
   std::vector<cv::Rect> limits;
   for (std::size_t k = 0; k < m; ++k) {
-    const uint8_t carried =
-        carried_points ? (*carried_points)[res.tracked_index[k]] : uint8_t(0);
+    const uint8_t carried = carried_points ? (*carried_points)[res.tracked_index[k]] : uint8_t(0);
     if (res.geometry.dynamic[k]) res.dynamic[res.tracked_index[k]] = 1;
     if (!res.geometry.dynamic[k] && !carried) continue;
     moving[k] = 1;

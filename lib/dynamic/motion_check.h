@@ -86,12 +86,12 @@ struct MotionFrame {
 
 struct MotionResult {
   std::vector<cv::Point2f> cur_points;  ///< tracked positions (valid where tracked)
-  std::vector<uint8_t> tracked;    ///< LK ok and forward-backward consistent (classify(): valid)
-  std::vector<uint8_t> dynamic;    ///< 1 = moving (always 0 where not tracked)
-  GeometryResult geometry;         ///< per tracked point, in tracked order
-  Correspondences correspondences; ///< what geometry was computed from (same order)
-  std::vector<int> tracked_index;  ///< geometry row -> input index
-  cv::Mat mask;                    ///< CV_8U, 255 = dynamic pixel of the current frame
+  std::vector<uint8_t> tracked;     ///< LK ok and forward-backward consistent (classify(): valid)
+  std::vector<uint8_t> dynamic;     ///< 1 = moving (always 0 where not tracked)
+  GeometryResult geometry;          ///< per tracked point, in tracked order
+  Correspondences correspondences;  ///< what geometry was computed from (same order)
+  std::vector<int> tracked_index;   ///< geometry row -> input index
+  cv::Mat mask;                     ///< CV_8U, 255 = dynamic pixel of the current frame
   double ms_track = 0, ms_geometry = 0, ms_mask = 0;
 };
 

@@ -12,7 +12,8 @@ struct MotionCheckParams {
   int lk_window = 11;    ///< square window (px of the LK image, see lk_downsample)
   int lk_max_level = 2;  ///< pyramid levels above the image (2 = 3 levels)
   int lk_iterations = 30;
-  float fb_max_error = 1.0f;  ///< forward-backward round trip must return within (px, full resolution)
+  float fb_max_error =
+      1.0f;  ///< forward-backward round trip must return within (px, full resolution)
   /// LK runs on the image shrunk by this factor (1 or 2); lk_window is in
   /// pixels of that image.
   int lk_downsample = 2;

@@ -208,9 +208,9 @@ GeometryResult classifyMotion(const Correspondences& c, const cv::Matx33d& K,
   // A pose that explains only a small share of the presumably static points
   // means the frame is blurred / rolling-shutter-skewed beyond the rigid
   // model: its per-point verdicts are mostly noise.
-  r.reliable = known ? true
-              : r.has_pose ? r.pose_inliers >= params.reliable_inlier_ratio * r.pose_candidates
-                           : r.has_fundamental;
+  r.reliable = known        ? true
+               : r.has_pose ? r.pose_inliers >= params.reliable_inlier_ratio * r.pose_candidates
+                            : r.has_fundamental;
   if (!r.reliable) return r;
 
   for (std::size_t i = 0; i < n; ++i) {

@@ -53,7 +53,6 @@ struct GeometryResult {
   bool reliable = false;
 };
 
-
 /// Fills Correspondences from matched raw pixel positions: undistorts them
 /// (camera.dist), back-projects prev points with prev_depth and reads
 /// cur_depth at the cur points (either depth may be empty: no depth tests),
@@ -71,7 +70,6 @@ Correspondences buildCorrespondences(const std::vector<cv::Point2f>& prev_points
 /// on the points it explains within known_motion_gate_px; F then follows
 /// from it, and the frame counts as reliable.
 GeometryResult classifyMotion(const Correspondences& c, const cv::Matx33d& K,
-                              const MotionCheckParams& params,
-                              const CameraMotion* known = nullptr);
+                              const MotionCheckParams& params, const CameraMotion* known = nullptr);
 
 }  // namespace dynslam

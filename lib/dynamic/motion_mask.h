@@ -23,7 +23,6 @@ namespace dynslam {
 cv::Mat growMotionMask(DepthRegionGrower& grower, const MotionCheckParams& params,
                        const cv::Mat& cur_depth, double depth_scale, cv::Size image_size,
                        std::vector<cv::Point2f> seeds, std::vector<cv::Rect> limits,
-                       const std::vector<cv::Point2f>& raw_cur,
-                       const std::vector<uint8_t>& moving);
+                       const std::vector<cv::Point2f>& raw_cur, const std::vector<uint8_t>& moving);
 
 }  // namespace dynslam

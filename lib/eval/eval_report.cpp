@@ -18,9 +18,9 @@ std::string fmt(const char* format, double v) {
 }
 
 void statLines(std::ostringstream& os, const SummaryStats& s, const char* unit) {
-  const std::pair<const char*, double> rows[] = {{"rmse", s.rmse}, {"mean", s.mean},
+  const std::pair<const char*, double> rows[] = {{"rmse", s.rmse},     {"mean", s.mean},
                                                  {"median", s.median}, {"std", s.stddev},
-                                                 {"min", s.min}, {"max", s.max}};
+                                                 {"min", s.min},       {"max", s.max}};
   for (const auto& [name, v] : rows) {
     char label[16];
     std::snprintf(label, sizeof label, "    %-8s", name);
@@ -72,7 +72,9 @@ std::string conventionsText(double max_dt) {
   const std::string d = dt;
   return "conventions (TUM RGB-D benchmark, evaluate_ate.py / evaluate_rpe.py):\n"
          "  ATE: estimate and groundtruth timestamps associated as associate.py (greedy by\n"
-         "       smallest |dt|, |dt| < " + d + " s, each timestamp used once); estimate positions\n"
+         "       smallest |dt|, |dt| < " +
+         d +
+         " s, each timestamp used once); estimate positions\n"
          "       aligned onto groundtruth by a rigid transform WITHOUT scale (Umeyama/Horn\n"
          "       least squares); error = |R p_est + t - p_gt| per associated pose; std is the\n"
          "       population std; needs >= 3 associated poses. Orientations are not used.\n"
@@ -85,7 +87,8 @@ std::string conventionsText(double max_dt) {
          "       Q groundtruth, P estimate; trans = |t(E)| (m), rot = angle(R(E)) (deg);\n"
          "       RMSE etc. over all pairs; n/a with fewer than 2 pairs.\n"
          "  coverage: fraction of the sequence's associated RGB-D pairs (RGB timestamps) that\n"
-         "       have an estimated pose, matched one-to-one with |dt| < " + d + " s.\n";
+         "       have an estimated pose, matched one-to-one with |dt| < " +
+         d + " s.\n";
 }
 
 std::string formatEvaluationText(const Evaluation& e) {
@@ -112,8 +115,9 @@ void writeEvaluationJson(JsonWriter& w, const Evaluation& e) {
   const double nan = std::numeric_limits<double>::quiet_NaN();
   if (!e.groundtruth_path.empty()) w.value("groundtruth", e.groundtruth_path);
   if (!e.estimate_path.empty()) w.value("estimate", e.estimate_path);
-  w.value("conventions", "tum: evaluate_ate.py (associate.py, rigid no-scale alignment); "
-                         "evaluate_rpe.py --fixed_delta, all pairs, nearest-timestamp groundtruth")
+  w.value("conventions",
+          "tum: evaluate_ate.py (associate.py, rigid no-scale alignment); "
+          "evaluate_rpe.py --fixed_delta, all pairs, nearest-timestamp groundtruth")
       .value("max_dt", e.max_dt)
       .value("groundtruth_poses", e.groundtruth_poses)
       .value("estimate_poses", e.estimate_poses);

@@ -18,9 +18,9 @@ void KeypointTruthScorer::addFrame(const std::string& rgb_source, cv::Size image
   const cv::Mat gt = loadTruthMask(truthMaskPath(masks_dir_, rgb_source), image_size);
   frames_.push_back(scoreKeypoints(points, flags, gt, kMarginPx, &person_boxes));
   total_ += frames_.back();
-  before_tracking_ += flags_before_tracking.empty()
-                          ? frames_.back()
-                          : scoreKeypoints(points, flags_before_tracking, gt, kMarginPx, &person_boxes);
+  before_tracking_ += flags_before_tracking.empty() ? frames_.back()
+                                                    : scoreKeypoints(points, flags_before_tracking,
+                                                                     gt, kMarginPx, &person_boxes);
 }
 
 void KeypointTruthScorer::writeJson(JsonWriter& w) const {

@@ -49,10 +49,10 @@ MaskScore scoreKeypoints(const std::vector<cv::Point2f>& points,
   if (person_boxes) {
     const cv::Rect img(0, 0, gt_mask.cols, gt_mask.rows);
     for (const auto& b : *person_boxes) {
-      const cv::Rect r = cv::Rect(cv::Point(int(std::floor(b.x)), int(std::floor(b.y))),
-                                  cv::Point(int(std::ceil(b.x + b.width)),
-                                            int(std::ceil(b.y + b.height)))) &
-                         img;
+      const cv::Rect r =
+          cv::Rect(cv::Point(int(std::floor(b.x)), int(std::floor(b.y))),
+                   cv::Point(int(std::ceil(b.x + b.width)), int(std::ceil(b.y + b.height)))) &
+          img;
       if (r.empty()) continue;
       if (cv::countNonZero(gt_mask(r)) <= unmasked_overlap * r.area()) unmasked.push_back(r);
     }

@@ -132,7 +132,8 @@ AteResult computeAte(const Trajectory& groundtruth, const Trajectory& estimate, 
   const Eigen::Matrix3Xd aligned =
       (r.alignment.topLeftCorner<3, 3>() * p_est).colwise() + r.alignment.topRightCorner<3, 1>();
   r.errors.resize(std::size_t(n));
-  for (Eigen::Index k = 0; k < n; ++k) r.errors[std::size_t(k)] = (aligned.col(k) - p_gt.col(k)).norm();
+  for (Eigen::Index k = 0; k < n; ++k)
+    r.errors[std::size_t(k)] = (aligned.col(k) - p_gt.col(k)).norm();
   r.stats = summarize(r.errors);
   return r;
 }

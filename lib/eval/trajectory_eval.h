@@ -69,7 +69,7 @@ class EvaluationError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-inline constexpr double kDefaultMaxDt = 0.02;  ///< associate.py's default (s)
+inline constexpr double kDefaultMaxDt = 0.02;   ///< associate.py's default (s)
 inline constexpr std::size_t kMinAtePoses = 3;  ///< to determine a rotation
 inline constexpr std::size_t kMinRpePairs = 2;  ///< evaluate_rpe.py's minimum
 
@@ -132,8 +132,7 @@ struct RpeResult {
 
 /// Never throws for too few pairs (see available()); throws EvaluationError
 /// for empty or unsorted input, or a non-positive delta.
-RpeResult computeRpe(const Trajectory& groundtruth, const Trajectory& estimate,
-                     RpeDelta delta);
+RpeResult computeRpe(const Trajectory& groundtruth, const Trajectory& estimate, RpeDelta delta);
 
 struct CoverageResult {
   std::size_t frames = 0;   ///< associated RGB-D pairs of the sequence
@@ -165,8 +164,7 @@ Evaluation evaluateTrajectory(const Trajectory& groundtruth, const Trajectory& e
 /// Reads both TUM files (InputError with file:line on bad lines) and
 /// evaluates; EvaluationError messages are prefixed with both file names.
 Evaluation evaluateTrajectoryFiles(const std::string& groundtruth_path,
-                                   const std::string& estimate_path,
-                                   double max_dt = kDefaultMaxDt,
+                                   const std::string& estimate_path, double max_dt = kDefaultMaxDt,
                                    const std::vector<double>* frame_timestamps = nullptr);
 
 /// The conventions above, as printed in the text report (one per line).
@@ -174,8 +172,9 @@ std::string conventionsText(double max_dt = kDefaultMaxDt);
 /// Human-readable report: conventions, then the numbers.
 std::string formatEvaluationText(const Evaluation& e);
 /// Writes the members (no enclosing braces) into an open JSON object: keys
-/// [groundtruth, estimate (paths, when known)], conventions, max_dt, groundtruth_poses, estimate_poses, ate{...}, rpe_1s{...},
-/// rpe_1frame{...}, coverage, pairs, covered_pairs (null without a sequence).
+/// [groundtruth, estimate (paths, when known)], conventions, max_dt, groundtruth_poses,
+/// estimate_poses, ate{...}, rpe_1s{...}, rpe_1frame{...}, coverage, pairs, covered_pairs (null
+/// without a sequence).
 void writeEvaluationJson(JsonWriter& w, const Evaluation& e);
 /// A complete JSON document with writeEvaluationJson's members.
 std::string formatEvaluationJson(const Evaluation& e);

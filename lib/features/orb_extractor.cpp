@@ -128,8 +128,7 @@ void rotatedOffsets(float ca, float sa, int step, int* ofs) {
 
 /// rBRIEF: bit i = I(R p1_i) < I(R p2_i) on the blurred level, R the
 /// keypoint's rotation. Bit i is bit (i % 8) of byte i / 8.
-void steeredBrief(const cv::Mat& blurred, const cv::Point2f& pt, float angle_deg,
-                  uint8_t* desc) {
+void steeredBrief(const cv::Mat& blurred, const cv::Point2f& pt, float angle_deg, uint8_t* desc) {
   const float a = angle_deg * static_cast<float>(CV_PI / 180.0);
   int ofs[512];
   rotatedOffsets(std::cos(a), std::sin(a), static_cast<int>(blurred.step1()), ofs);
@@ -205,8 +204,7 @@ void OrbExtractor::detectLevel(int level, std::vector<cv::KeyPoint>& out) {
   const int ini = params_.ini_fast_threshold;
   const int lo = params_.min_fast_threshold;
   const int off = kEdge - kFastBorder;  // ROI origin in the level
-  cv::FAST(img(cv::Rect(off, off, w + 2 * kFastBorder, h + 2 * kFastBorder)), corners_, ini,
-           true);
+  cv::FAST(img(cv::Rect(off, off, w + 2 * kFastBorder, h + 2 * kFastBorder)), corners_, ini, true);
   kept_.clear();
   for (const auto& k : corners_) {
     kept_.push_back(k);
@@ -223,19 +221,21 @@ void OrbExtractor::detectLevel(int level, std::vector<cv::KeyPoint>& out) {
   masked_.clear();
   std::size_t n_static = 0;
   for (const auto& k : kept_) {
-    const int x = std::clamp(int(k.pt.x), 0, m.cols - 1), y = std::clamp(int(k.pt.y), 0, m.rows - 1);
-    if (m.at<uint8_t>(y, x)) masked_.push_back(k);
-    else kept_[n_static++] = k;
+    const int x = std::clamp(int(k.pt.x), 0, m.cols - 1),
+              y = std::clamp(int(k.pt.y), 0, m.rows - 1);
+    if (m.at<uint8_t>(y, x))
+      masked_.push_back(k);
+    else
+      kept_[n_static++] = k;
   }
   kept_.resize(n_static);
   distributeQuadtree(cv::Size(w, h), features_per_level_[level], out);
   kept_.swap(masked_);
-  distributeQuadtree(cv::Size(w, h),
-                     int(std::lround(features_per_level_[level] * masked_budget_)), out);
+  distributeQuadtree(cv::Size(w, h), int(std::lround(features_per_level_[level] * masked_budget_)),
+                     out);
 }
 
-void OrbExtractor::addLowTextureCorners(const cv::Mat& img, const cv::Size& region,
-                                        int threshold) {
+void OrbExtractor::addLowTextureCorners(const cv::Mat& img, const cv::Size& region, int threshold) {
   // Cells of about kCellSize px tiling the interior [kEdge, kEdge + region).
   const int ncx = std::max(1, (region.width + kCellSize / 2) / kCellSize);
   const int ncy = std::max(1, (region.height + kCellSize / 2) / kCellSize);
@@ -355,8 +355,10 @@ void OrbExtractor::distributeQuadtree(const cv::Size& region, int target,
     if (nodes_.size() + 3 * split_order_.size() < static_cast<size_t>(target)) {
       next_nodes_.clear();
       for (const QuadNode& nd : nodes_) {
-        if (splittable(nd)) split(nd, next_nodes_);
-        else next_nodes_.push_back(nd);
+        if (splittable(nd))
+          split(nd, next_nodes_);
+        else
+          next_nodes_.push_back(nd);
       }
       nodes_.swap(next_nodes_);
       continue;

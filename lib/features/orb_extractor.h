@@ -24,9 +24,9 @@
 namespace dynslam {
 
 struct OrbParams {
-  int n_features = 1000;      ///< target number of keypoints per frame
-  float scale_factor = 1.2f;  ///< pyramid scale between levels
-  int n_levels = 8;           ///< pyramid levels
+  int n_features = 1000;        ///< target number of keypoints per frame
+  float scale_factor = 1.2f;    ///< pyramid scale between levels
+  int n_levels = 8;             ///< pyramid levels
   int ini_fast_threshold = 20;  ///< FAST threshold tried first in each cell
   int min_fast_threshold = 7;   ///< fallback threshold for low-texture cells
 };
@@ -48,8 +48,8 @@ class OrbExtractor {
   /// and the corners on it get a budget of their own on top (the mask's
   /// share of the image, so the same density), so that movers covering half
   /// the frame do not halve the static keypoints and can still be followed.
-  void extract(const cv::Mat& gray, std::vector<cv::KeyPoint>& keypoints,
-               cv::Mat& descriptors, const cv::Mat& mask = cv::Mat());
+  void extract(const cv::Mat& gray, std::vector<cv::KeyPoint>& keypoints, cv::Mat& descriptors,
+               const cv::Mat& mask = cv::Mat());
 
   int levels() const { return params_.n_levels; }
   float scaleFactor() const { return params_.scale_factor; }
@@ -83,8 +83,7 @@ class OrbExtractor {
   void addLowTextureCorners(const cv::Mat& img, const cv::Size& region, int threshold);
   /// Quadtree over the interior (origin kEdge, size `region`): keeps the
   /// strongest of kept_ in each of `target` nodes; appends to `out`.
-  void distributeQuadtree(const cv::Size& region, int target,
-                          std::vector<cv::KeyPoint>& out);
+  void distributeQuadtree(const cv::Size& region, int target, std::vector<cv::KeyPoint>& out);
 
   std::vector<cv::Mat> blurred_;         ///< Gaussian-blurred levels (descriptors)
   std::vector<cv::KeyPoint> corners_;    ///< FAST output of one level
@@ -94,9 +93,9 @@ class OrbExtractor {
   std::vector<int> corner_order_, corner_scratch_;
   std::vector<QuadNode> nodes_, next_nodes_;
   std::vector<int> split_order_;
-  std::vector<cv::Mat> level_masks_;     ///< extract()'s mask per level (empty: none)
-  std::vector<cv::KeyPoint> masked_;     ///< corners of one level on the mask
-  float masked_budget_ = 0;              ///< masked corners' share of a level's budget
+  std::vector<cv::Mat> level_masks_;  ///< extract()'s mask per level (empty: none)
+  std::vector<cv::KeyPoint> masked_;  ///< corners of one level on the mask
+  float masked_budget_ = 0;           ///< masked corners' share of a level's budget
 };
 
 /// Hamming distance between two 32-byte ORB descriptors (rows of CV_8UC1).

@@ -47,10 +47,10 @@ std::vector<KeyFrame*> LoopClosing::relocalisationCandidates(const FeatureSet& f
     stats_.relocalisation_queries++;
   }
   std::vector<KeyFrame*> out;
-  for (const PlaceCandidate& c : db_.detectRelocalisationCandidates(describe(f))) out.push_back(c.kf);
+  for (const PlaceCandidate& c : db_.detectRelocalisationCandidates(describe(f)))
+    out.push_back(c.kf);
   return out;
 }
-
 
 LoopClosingStats LoopClosing::stats() const {
   std::lock_guard<std::mutex> lk(stats_mutex_);
@@ -105,14 +105,16 @@ std::vector<KeyFrame*> LoopClosing::consistentCandidates(KeyFrame* kf, const Bow
     group.insert(c.kf);
     int count = 0;
     for (const auto& [g, n] : groups_) {
-      const bool overlaps = std::any_of(group.begin(), group.end(), [&](KeyFrame* k) { return g.count(k) > 0; });
+      const bool overlaps =
+          std::any_of(group.begin(), group.end(), [&](KeyFrame* k) { return g.count(k) > 0; });
       if (overlaps) count = std::max(count, n + 1);
     }
     if (count + 1 >= p_.consistency) accepted.push_back(c.kf);
     next.emplace_back(std::move(group), count);
   }
   groups_ = std::move(next);
-  logf(LogLevel::kDebug, "loop", "kf %ld: %zu candidates, %zu consistent", kf->id, cands.size(), accepted.size());
+  logf(LogLevel::kDebug, "loop", "kf %ld: %zu candidates, %zu consistent", kf->id, cands.size(),
+       accepted.size());
   return accepted;
 }
 
@@ -144,7 +146,9 @@ bool LoopClosing::verifyAndClose(KeyFrame* kf, KeyFrame* cand) {
     const FrameContext& ctx = *kf->f().ctx;
     std::set<MapPoint*> used;
     for (const auto& m : knn) {
-      if (m.size() < 2 || m[0].distance > p_.max_hamming || m[0].distance > p_.ratio * m[1].distance) continue;
+      if (m.size() < 2 || m[0].distance > p_.max_hamming ||
+          m[0].distance > p_.ratio * m[1].distance)
+        continue;
       const int i = qi[m[0].queryIdx], j = ti[m[0].trainIdx];
       MapPoint* a = cand->points[j];
       MapPoint* b = kf->points[i];
@@ -172,8 +176,8 @@ bool LoopClosing::verifyAndClose(KeyFrame* kf, KeyFrame* cand) {
     std::lock_guard<std::mutex> lk(stats_mutex_);
     stats_.verifications++;
   }
-  logf(LogLevel::kDebug, "loop", "kf %ld vs %ld: %zu matches, aligned %d, %d inliers, rms %.2f px", kf->id,
-                 cand->id, corr.size(), a.ok ? 1 : 0, a.n_inliers, a.rms_px);
+  logf(LogLevel::kDebug, "loop", "kf %ld vs %ld: %zu matches, aligned %d, %d inliers, rms %.2f px",
+       kf->id, cand->id, corr.size(), a.ok ? 1 : 0, a.n_inliers, a.rms_px);
   if (!a.ok || a.n_inliers < p_.min_inliers) return false;
 
   LoopClosure lc;
@@ -193,8 +197,9 @@ bool LoopClosing::verifyAndClose(KeyFrame* kf, KeyFrame* cand) {
   const LoopCorrectionStats cs = corrector_.correct(lc);
   double gba_ms = -1;
   if (cs.ok && p_.global_ba) gba_ms = globalBundleAdjust(map_, p_.global_ba_params).ms;
-  logf(LogLevel::kDebug, "loop", "closed kf %ld -> %ld: ok %d, %d kfs, %d merged, %d fused, %.1f ms, GBA %.0f ms",
-                 kf->id, cand->id, cs.ok ? 1 : 0, cs.keyframes, cs.merged, cs.fused, cs.time_ms, gba_ms);
+  logf(LogLevel::kDebug, "loop",
+       "closed kf %ld -> %ld: ok %d, %d kfs, %d merged, %d fused, %.1f ms, GBA %.0f ms", kf->id,
+       cand->id, cs.ok ? 1 : 0, cs.keyframes, cs.merged, cs.fused, cs.time_ms, gba_ms);
   if (!cs.ok) return false;
   last_loop_kf_ = kf->id;
   groups_.clear();

@@ -26,25 +26,24 @@
 namespace dynslam::loop {
 
 struct LoopClosingParams {
-  bool enabled = true;               ///< place recognition, relocalisation by BoW, loop closing
-  std::string vocabulary;            ///< vocabulary file (set by the config loader)
-  bool close_loops = true;           ///< false: place recognition for relocalisation only
-  int min_map_keyframes = 10;        ///< no loop detection in smaller maps
-  int min_keyframes_between = 10;    ///< keyframes between two loop closures
-  int consistency = 3;               ///< consecutive keyframes that must see the candidate place
-  int max_hamming = 50;              ///< descriptor distance for a loop match
-  float ratio = 0.8f;                ///< best / second-best distance ratio
-  int min_inliers = 30;              ///< aligned 3D-3D matches a loop needs
-  bool global_ba = true;             ///< global bundle adjustment after each closure
+  bool enabled = true;             ///< place recognition, relocalisation by BoW, loop closing
+  std::string vocabulary;          ///< vocabulary file (set by the config loader)
+  bool close_loops = true;         ///< false: place recognition for relocalisation only
+  int min_map_keyframes = 10;      ///< no loop detection in smaller maps
+  int min_keyframes_between = 10;  ///< keyframes between two loop closures
+  int consistency = 3;             ///< consecutive keyframes that must see the candidate place
+  int max_hamming = 50;            ///< descriptor distance for a loop match
+  float ratio = 0.8f;              ///< best / second-best distance ratio
+  int min_inliers = 30;            ///< aligned 3D-3D matches a loop needs
+  bool global_ba = true;           ///< global bundle adjustment after each closure
   BAParams global_ba_params;
   RigidAlignerParams aligner;
   LoopCorrectorParams corrector;
 };
 
 struct LoopClosingStats {
-  std::size_t keyframes_indexed = 0, keyframes_checked = 0, candidates = 0,
-              verifications = 0, loops_closed = 0, global_bas = 0,
-              relocalisation_queries = 0;
+  std::size_t keyframes_indexed = 0, keyframes_checked = 0, candidates = 0, verifications = 0,
+              loops_closed = 0, global_bas = 0, relocalisation_queries = 0;
   /// Over all closures: duplicate map points merged into the loop's and
   /// points fused by projection (LoopCorrectionStats).
   std::size_t points_merged = 0, points_fused = 0;
@@ -54,7 +53,8 @@ struct LoopClosingStats {
 
 class LoopClosing : public MappedKeyFrameListener, public RelocalisationCandidateSource {
  public:
-  LoopClosing(Map& map, std::shared_ptr<const OrbVocabulary> vocabulary, const LoopClosingParams& params);
+  LoopClosing(Map& map, std::shared_ptr<const OrbVocabulary> vocabulary,
+              const LoopClosingParams& params);
 
   void keyFrameMapped(KeyFrame* kf) override;
   void keyFrameCulled(KeyFrame* kf) override;
@@ -78,7 +78,8 @@ class LoopClosing : public MappedKeyFrameListener, public RelocalisationCandidat
   KeyFrameDatabase db_;
   LoopCorrector corrector_;
 
-  std::vector<std::pair<std::set<KeyFrame*>, int>> groups_;  ///< previous keyframe's candidate groups
+  std::vector<std::pair<std::set<KeyFrame*>, int>>
+      groups_;  ///< previous keyframe's candidate groups
   long last_loop_kf_ = -1000000;
 
   mutable std::mutex stats_mutex_;

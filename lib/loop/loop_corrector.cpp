@@ -54,8 +54,8 @@ LoopCorrectionStats LoopCorrector::correct(const LoopClosure& lc) {
   if (!cur || !loop_kf || cur == loop_kf) return st;
 
   PoseGraph graph;
-  KeyFramePoses before;    // poses at entry (uncorrected)
-  KeyFramePoses start;     // graph start values (corrected in the neighbourhood)
+  KeyFramePoses before;                     // poses at entry (uncorrected)
+  KeyFramePoses start;                      // graph start values (corrected in the neighbourhood)
   std::map<MapPoint*, KeyFrame*> moved_by;  // points moved in (a), and by which keyframe
   KeyFrame* first = nullptr;
   {
@@ -170,8 +170,10 @@ LoopCorrectionStats LoopCorrector::correct(const LoopClosure& lc) {
     for (MapPoint* p : map_.mapPoints()) {
       KeyFrame* owner = nullptr;
       auto it = moved_by.find(p);
-      if (it != moved_by.end()) owner = it->second;
-      else owner = p->ref_kf;
+      if (it != moved_by.end())
+        owner = it->second;
+      else
+        owner = p->ref_kf;
       if (!owner) continue;
       auto m = motion.find(owner);
       if (m == motion.end()) continue;

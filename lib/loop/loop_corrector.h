@@ -29,7 +29,7 @@ struct LoopCorrectorParams {
   int max_iterations = 20;            ///< Levenberg-Marquardt iterations
   float fuse_radius = 4.0f;           ///< projection window (px, x level scale)
   MatcherParams matcher;
-  bool fix_first_keyframe = true;     ///< besides the loop keyframe
+  bool fix_first_keyframe = true;  ///< besides the loop keyframe
 };
 
 /// A verified loop.
@@ -46,15 +46,15 @@ struct LoopClosure {
 
 struct LoopCorrectionStats {
   bool ok = false;
-  int keyframes = 0;         ///< graph nodes
-  int neighbourhood = 0;     ///< keyframes corrected directly in (a)
-  int merged = 0, fused = 0; ///< points merged from matches / by projection
+  int keyframes = 0;          ///< graph nodes
+  int neighbourhood = 0;      ///< keyframes corrected directly in (a)
+  int merged = 0, fused = 0;  ///< points merged from matches / by projection
   int edges_spanning = 0, edges_covisibility = 0, edges_loop = 0, edges_new_loop = 0;
   int iterations = 0;
   double initial_sq_error = 0, final_sq_error = 0;
   int points_moved = 0;
-  double time_ms = 0;          ///< whole correction
-  double optimize_ms = 0;      ///< the graph optimisation alone
+  double time_ms = 0;      ///< whole correction
+  double optimize_ms = 0;  ///< the graph optimisation alone
 
   int edges() const { return edges_spanning + edges_covisibility + edges_loop + edges_new_loop; }
 };

@@ -62,7 +62,8 @@ bool RigidAligner::fit(const std::vector<PointCorrespondence>& c, const std::vec
 
 namespace {
 
-Eigen::Matrix<double, 2, 3> projectionJacobian(const ProjectionModel& cam, const Eigen::Vector3d& p) {
+Eigen::Matrix<double, 2, 3> projectionJacobian(const ProjectionModel& cam,
+                                               const Eigen::Vector3d& p) {
   const double iz = 1.0 / p.z(), iz2 = iz * iz;
   Eigen::Matrix<double, 2, 3> J;
   J << cam.fx * iz, 0, -cam.fx * p.x() * iz2, 0, cam.fy * iz, -cam.fy * p.y() * iz2;
@@ -116,9 +117,9 @@ void RigidAligner::refineReprojection(const std::vector<PointCorrespondence>& c,
     const Vec6 delta = -H.ldlt().solve(g);
     if (!delta.allFinite()) return;
     const double angle = delta.tail<3>().norm();
-    const Eigen::Matrix3d dR = angle > 0
-        ? Eigen::AngleAxisd(angle, delta.tail<3>() / angle).toRotationMatrix()
-        : Eigen::Matrix3d::Identity();
+    const Eigen::Matrix3d dR =
+        angle > 0 ? Eigen::AngleAxisd(angle, delta.tail<3>() / angle).toRotationMatrix()
+                  : Eigen::Matrix3d::Identity();
     const Eigen::Matrix3d R2 = dR * R;
     const Eigen::Vector3d t2 = dR * t + delta.head<3>();
     Mat6 H2;
@@ -136,8 +137,7 @@ void RigidAligner::refineReprojection(const std::vector<PointCorrespondence>& c,
 }
 
 int RigidAligner::classify(const std::vector<PointCorrespondence>& c, const Eigen::Matrix3d& R,
-                           const Eigen::Vector3d& t, std::vector<bool>& in,
-                           double& sq_err) const {
+                           const Eigen::Vector3d& t, std::vector<bool>& in, double& sq_err) const {
   in.assign(c.size(), false);
   sq_err = 0;
   int n = 0;

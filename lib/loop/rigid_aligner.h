@@ -24,16 +24,16 @@ namespace dynslam::loop {
 
 /// One 3D-3D match: the same landmark seen from keyframe A and keyframe B.
 struct PointCorrespondence {
-  Eigen::Vector3d pa, pb;   ///< the point in camera A / camera B coordinates (m)
-  Eigen::Vector2d uva, uvb; ///< its keypoint in image A / image B (undistorted px)
-  double sigma2_a = 1.0;    ///< keypoint position variance in A (px^2, level scale^2)
+  Eigen::Vector3d pa, pb;    ///< the point in camera A / camera B coordinates (m)
+  Eigen::Vector2d uva, uvb;  ///< its keypoint in image A / image B (undistorted px)
+  double sigma2_a = 1.0;     ///< keypoint position variance in A (px^2, level scale^2)
   double sigma2_b = 1.0;
 };
 
 struct RigidAlignerParams {
   double probability = 0.99;  ///< RANSAC confidence that one sample was all inliers
   int max_iterations = 300;
-  int min_inliers = 20;       ///< fewer: the alignment is rejected
+  int min_inliers = 20;  ///< fewer: the alignment is rejected
   /// Chi-square bound on squared reprojection error / sigma^2 (2 dof, 99 %).
   double chi2 = 9.21;
   /// Samples (and the final inlier set) whose points do not span a plane
@@ -41,9 +41,9 @@ struct RigidAlignerParams {
   /// below this fraction of the first (collinear points leave the rotation
   /// about their line undetermined).
   double min_spread_ratio = 0.05;
-  int refine_rounds = 3;      ///< re-estimate on inliers, re-classify, repeat
+  int refine_rounds = 3;             ///< re-estimate on inliers, re-classify, repeat
   int gauss_newton_iterations = 10;  ///< per refinement round
-  std::uint32_t seed = 0x5eed;  ///< fixed: runs are reproducible
+  std::uint32_t seed = 0x5eed;       ///< fixed: runs are reproducible
 };
 
 struct RigidAlignment {
@@ -55,7 +55,7 @@ struct RigidAlignment {
   std::vector<bool> inliers;  ///< per correspondence
   int n_inliers = 0;
   int iterations = 0;
-  double rms_px = 0;          ///< RMS reprojection error of inliers (both images)
+  double rms_px = 0;  ///< RMS reprojection error of inliers (both images)
 };
 
 class RigidAligner {
@@ -78,8 +78,7 @@ class RigidAligner {
   /// Gauss-Newton on the inliers' reprojection errors in both images.
   void refineReprojection(const std::vector<PointCorrespondence>& c, const std::vector<int>& idx,
                           Eigen::Matrix3d& R, Eigen::Vector3d& t) const;
-  bool wellSpread(const std::vector<PointCorrespondence>& c,
-                  const std::vector<int>& idx) const;
+  bool wellSpread(const std::vector<PointCorrespondence>& c, const std::vector<int>& idx) const;
 
   ProjectionModel cam_a_, cam_b_;
   RigidAlignerParams p_;

@@ -52,8 +52,10 @@ SyntheticLoop buildSyntheticLoop(Map& map, const SyntheticLoopParams& p) {
   mrpt::poses::CPose3D est;
   for (int k = 0; k < p.keyframes; ++k) {
     const mrpt::poses::CPose3D truth = circlePose(p.radius, 2 * M_PI * k / p.keyframes);
-    if (k == 0) est = truth;
-    else est = est + (truth - s.truth.back()) + drift;
+    if (k == 0)
+      est = truth;
+    else
+      est = est + (truth - s.truth.back()) + drift;
     s.truth.push_back(truth);
     const CameraPose tp(truth);
 
@@ -73,7 +75,8 @@ SyntheticLoop buildSyntheticLoop(Map& map, const SyntheticLoopParams& p) {
       depths.push_back(pc.z());
     }
     fs->descriptors = cv::Mat(static_cast<int>(lms.size()), 32, CV_8UC1);
-    for (std::size_t j = 0; j < lms.size(); ++j) lm_desc.row(lms[j]).copyTo(fs->descriptors.row(static_cast<int>(j)));
+    for (std::size_t j = 0; j < lms.size(); ++j)
+      lm_desc.row(lms[j]).copyTo(fs->descriptors.row(static_cast<int>(j)));
     fs->finalize(cv::Mat());
     for (std::size_t j = 0; j < lms.size(); ++j) {  // RGB-D depth at each keypoint
       fs->depth[j] = static_cast<float>(depths[j]);
@@ -113,7 +116,8 @@ void SyntheticLoop::correspondences(int a, int b, std::vector<PointCorrespondenc
   for (std::size_t j = 0; j < ka->points.size(); ++j)
     if (ka->points[j] && !ka->points[j]->bad) a_points[keypoint_landmark[a][j]] = ka->points[j];
   std::map<int, int> a_keypoint;
-  for (std::size_t j = 0; j < keypoint_landmark[a].size(); ++j) a_keypoint[keypoint_landmark[a][j]] = static_cast<int>(j);
+  for (std::size_t j = 0; j < keypoint_landmark[a].size(); ++j)
+    a_keypoint[keypoint_landmark[a][j]] = static_cast<int>(j);
   const FeatureSet& fb = kb->f();
   for (std::size_t j = 0; j < fb.size(); ++j) {
     auto it = a_points.find(keypoint_landmark[b][j]);

@@ -19,17 +19,17 @@ namespace dynslam::loop {
 
 struct SyntheticLoopParams {
   int keyframes = 30;
-  double radius = 2.0;        ///< camera circle (m)
-  double wall_radius = 6.0;   ///< landmark cylinder (m)
+  double radius = 2.0;       ///< camera circle (m)
+  double wall_radius = 6.0;  ///< landmark cylinder (m)
   double wall_height = 3.0;
   int landmarks = 3000;
-  double yaw_drift_deg = 0.5;                 ///< per keyframe, about the vertical
+  double yaw_drift_deg = 0.5;  ///< per keyframe, about the vertical
   /// Per keyframe, camera frame (m; y is the vertical). The default drifts in
   /// height only: a constant *in-plane* bias maps the circle onto another
   /// closed circle (of another radius), an error that no loop constraint
   /// can observe, so it would only measure the test, not the corrector.
   Eigen::Vector3d step_drift{0.0, 0.01, 0.0};
-  double pixel_noise = 0.3;   ///< keypoint noise (px)
+  double pixel_noise = 0.3;  ///< keypoint noise (px)
   /// A map point last observed more than this many keyframes before is not
   /// matched again: the keyframe creates a new (duplicate) point.
   int reobserve_gap = 5;
@@ -41,7 +41,7 @@ struct SyntheticLoop {
   std::vector<Eigen::Vector3d> landmarks;
   std::vector<mrpt::poses::CPose3D> truth;  ///< camera-to-world, per keyframe
   std::vector<KeyFrame*> kfs;
-  std::map<const MapPoint*, int> landmark_of;  ///< map point -> landmark index
+  std::map<const MapPoint*, int> landmark_of;       ///< map point -> landmark index
   std::vector<std::vector<int>> keypoint_landmark;  ///< per keyframe, per keypoint
 
   /// The loop as the detector would hand it over: 3D-3D correspondences

@@ -47,9 +47,11 @@ std::vector<int> FeatureSet::inArea(const std::vector<std::vector<int>>& cells, 
   std::vector<int> out;
   const FrameContext& c = *ctx;
   const int x0 = std::max(0, static_cast<int>(std::floor((x - c.min_x - r) * c.grid_inv_w)));
-  const int x1 = std::min(c.grid_cols - 1, static_cast<int>(std::floor((x - c.min_x + r) * c.grid_inv_w)));
+  const int x1 =
+      std::min(c.grid_cols - 1, static_cast<int>(std::floor((x - c.min_x + r) * c.grid_inv_w)));
   const int y0 = std::max(0, static_cast<int>(std::floor((y - c.min_y - r) * c.grid_inv_h)));
-  const int y1 = std::min(c.grid_rows - 1, static_cast<int>(std::floor((y - c.min_y + r) * c.grid_inv_h)));
+  const int y1 =
+      std::min(c.grid_rows - 1, static_cast<int>(std::floor((y - c.min_y + r) * c.grid_inv_h)));
   if (x0 >= c.grid_cols || x1 < 0 || y0 >= c.grid_rows || y1 < 0) return out;
   for (int gx = x0; gx <= x1; ++gx) {
     for (int gy = y0; gy <= y1; ++gy) {
@@ -109,7 +111,8 @@ void FeatureSet::finalize(const cv::Mat& depth_raw, const cv::Mat& rgb,
     if (rgb_from_depth) {
       // The pixel shift is dominated by rotation (depth-independent); the
       // undistorted shift is applied to the raw pixel.
-      const Eigen::Vector3d ray_r((keys_un[i].pt.x - P.cx) / P.fx, (keys_un[i].pt.y - P.cy) / P.fy, 1);
+      const Eigen::Vector3d ray_r((keys_un[i].pt.x - P.cx) / P.fx, (keys_un[i].pt.y - P.cy) / P.fy,
+                                  1);
       ray_d = R_dr * ray_r;
       if (ray_d.z() <= 0) continue;
       ray_d /= ray_d.z();

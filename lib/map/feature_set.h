@@ -32,7 +32,7 @@ struct FeatureSet {
   /// points; no new map point is made from it, so whatever enters the view
   /// is judged once before it can enter the map. Empty: all judged.
   std::vector<uint8_t> unjudged;
-  std::vector<cv::Vec3b> colors;      ///< BGR at each keypoint (for map exports)
+  std::vector<cv::Vec3b> colors;  ///< BGR at each keypoint (for map exports)
   /// Keypoint indices per grid cell (static keypoints only).
   std::vector<std::vector<int>> grid;
   /// The same for the dynamic keypoints (the tracker looks for map points
@@ -41,7 +41,9 @@ struct FeatureSet {
 
   std::size_t size() const { return keys.size(); }
   bool isUnjudged(std::size_t i) const { return i < unjudged.size() && unjudged[i]; }
-  const uint8_t* descriptor(std::size_t i) const { return descriptors.ptr<uint8_t>(static_cast<int>(i)); }
+  const uint8_t* descriptor(std::size_t i) const {
+    return descriptors.ptr<uint8_t>(static_cast<int>(i));
+  }
   /// Static keypoints within radius r (square window) of (x, y) whose level
   /// lies in [min_level, max_level] (-1: no bound).
   std::vector<int> featuresInArea(float x, float y, float r, int min_level = -1,

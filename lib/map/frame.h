@@ -16,8 +16,7 @@ class MapPoint;
 class Frame {
  public:
   Frame() = default;
-  Frame(long id, std::size_t index, double timestamp,
-        std::shared_ptr<const FeatureSet> features);
+  Frame(long id, std::size_t index, double timestamp, std::shared_ptr<const FeatureSet> features);
 
   long id = -1;
   std::size_t index = 0;

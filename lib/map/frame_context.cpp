@@ -7,8 +7,8 @@
 
 namespace dynslam {
 
-void FrameContext::init(const PinholeCamera& cam, double bf, double close_depth_m,
-                        int n_levels, float sf) {
+void FrameContext::init(const PinholeCamera& cam, double bf, double close_depth_m, int n_levels,
+                        float sf) {
   camera = cam;
   proj.fx = cam.fx;
   proj.fy = cam.fy;
@@ -22,8 +22,8 @@ void FrameContext::init(const PinholeCamera& cam, double bf, double close_depth_
 
   // Undistorted bounds: the extreme coordinates of the undistorted corners.
   if (cam.hasDistortion()) {
-    cv::Mat corners = (cv::Mat_<double>(4, 2) << 0, 0, cam.width, 0, 0, cam.height,
-                       cam.width, cam.height);
+    cv::Mat corners =
+        (cv::Mat_<double>(4, 2) << 0, 0, cam.width, 0, 0, cam.height, cam.width, cam.height);
     corners = corners.reshape(2);
     cv::Mat und;
     cv::undistortPoints(corners, und, K, dist, cv::noArray(), K);

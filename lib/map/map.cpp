@@ -5,10 +5,9 @@
 namespace dynslam {
 
 KeyFrame* Map::createKeyFrame(long frame_id, double timestamp, std::size_t frame_index,
-                              std::shared_ptr<const FeatureSet> features,
-                              const CameraPose& pose) {
-  kfs_.push_back(std::make_unique<KeyFrame>(next_kf_id_++, frame_id, timestamp,
-                                            frame_index, std::move(features), pose));
+                              std::shared_ptr<const FeatureSet> features, const CameraPose& pose) {
+  kfs_.push_back(std::make_unique<KeyFrame>(next_kf_id_++, frame_id, timestamp, frame_index,
+                                            std::move(features), pose));
   return kfs_.back().get();
 }
 
@@ -18,8 +17,7 @@ MapPoint* Map::createMapPoint(const Eigen::Vector3d& pos, KeyFrame* ref) {
 }
 
 KeyFrame* Map::restoreKeyFrame(long id, long frame_id, double timestamp, std::size_t frame_index,
-                               std::shared_ptr<const FeatureSet> features,
-                               const CameraPose& pose) {
+                               std::shared_ptr<const FeatureSet> features, const CameraPose& pose) {
   if (id < next_kf_id_) throw std::invalid_argument("keyframe ids out of order");
   next_kf_id_ = id;
   return createKeyFrame(frame_id, timestamp, frame_index, std::move(features), pose);

@@ -16,8 +16,7 @@ namespace dynslam {
 class Map {
  public:
   KeyFrame* createKeyFrame(long frame_id, double timestamp, std::size_t frame_index,
-                           std::shared_ptr<const FeatureSet> features,
-                           const CameraPose& pose);
+                           std::shared_ptr<const FeatureSet> features, const CameraPose& pose);
   MapPoint* createMapPoint(const Eigen::Vector3d& pos, KeyFrame* ref);
   /// For a map read back from a file (lib/mapio): objects with their saved
   /// ids, then the saved id counters. Throws std::invalid_argument when an id

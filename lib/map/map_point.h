@@ -24,20 +24,20 @@ class MapPoint {
 
   const long id;
   Eigen::Vector3d pos;
-  cv::Mat descriptor;          ///< 1 x 32
+  cv::Mat descriptor;               ///< 1 x 32
   Eigen::Vector3d normal{0, 0, 1};  ///< mean viewing direction
   float min_dist = 0, max_dist = 0;
   KeyFrame* ref_kf;
   long first_kf_id;
   std::map<KeyFrame*, int, KeyFrameIdLess> obs;  ///< keyframe -> keypoint index
-  int visible = 1, found = 1;    ///< for the found/visible ratio culling
-  int dynamic_hits = 0;          ///< frames where it matched a keypoint flagged dynamic
+  int visible = 1, found = 1;                    ///< for the found/visible ratio culling
+  int dynamic_hits = 0;  ///< frames where it matched a keypoint flagged dynamic
   bool bad = false;
   MapPoint* replaced = nullptr;
 
   // Scratch used by the tracker/mapper (owned by whoever runs that step).
-  long track_frame = -1;       ///< last frame it was considered for local tracking
-  long last_seen_frame = -1;   ///< last frame that matched it
+  long track_frame = -1;      ///< last frame it was considered for local tracking
+  long last_seen_frame = -1;  ///< last frame that matched it
   bool track_in_view = false;
   float proj_x = 0, proj_y = 0, proj_ur = 0, view_cos = 0;
   int pred_level = 0;

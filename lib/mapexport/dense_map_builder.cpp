@@ -9,13 +9,12 @@ namespace dynslam {
 
 DenseMapBuilder::DenseMapBuilder(const PinholeCamera& camera, DenseMapOptions options)
     : options_(options), projector_(camera, options.projection) {
-  if (options.carving.enabled) carver_ = std::make_unique<FreeSpaceCarver>(projector_, options.carving);
+  if (options.carving.enabled)
+    carver_ = std::make_unique<FreeSpaceCarver>(projector_, options.carving);
 }
 
-void DenseMapBuilder::addKeyframe(const RGBDFrame& frame,
-                                  const mrpt::poses::CPose3D& pose_wc,
-                                  const cv::Mat& dynamic_mask,
-                                  const cv::Mat& truth_mask) {
+void DenseMapBuilder::addKeyframe(const RGBDFrame& frame, const mrpt::poses::CPose3D& pose_wc,
+                                  const cv::Mat& dynamic_mask, const cv::Mat& truth_mask) {
   scratch_.clear();
   scratch_pixels_.clear();
   projector_.checkFrame(frame);
@@ -57,9 +56,8 @@ std::optional<MaskShare> DenseMapBuilder::truthShare(const ColoredCloud& final_c
 }
 
 ColoredCloud DenseMapBuilder::build() {
-  ColoredCloud cloud = options_.voxel_leaf > 0
-                           ? voxelDownsample(accumulated_, options_.voxel_leaf)
-                           : accumulated_;
+  ColoredCloud cloud =
+      options_.voxel_leaf > 0 ? voxelDownsample(accumulated_, options_.voxel_leaf) : accumulated_;
   stats_.after_voxel = cloud.size();
   stats_.carved_points = 0;
   stats_.carving_seconds = 0;
@@ -71,8 +69,7 @@ ColoredCloud DenseMapBuilder::build() {
   }
   stats_.after_carving = cloud.size();
   if (options_.remove_outliers && cloud.size() > std::size_t(options_.outlier_neighbours)) {
-    cloud = removeStatisticalOutliers(cloud, options_.outlier_neighbours,
-                                      options_.outlier_stddev);
+    cloud = removeStatisticalOutliers(cloud, options_.outlier_neighbours, options_.outlier_stddev);
   }
   stats_.after_outliers = cloud.size();
   return cloud;

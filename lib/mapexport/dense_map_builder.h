@@ -53,8 +53,7 @@ class DenseMapBuilder {
   /// fused pixels is recorded for truthShare(). Give it for every keyframe or
   /// for none: a share over partly labelled keyframes would undercount.
   void addKeyframe(const RGBDFrame& frame, const mrpt::poses::CPose3D& pose_wc,
-                   const cv::Mat& dynamic_mask = cv::Mat(),
-                   const cv::Mat& truth_mask = cv::Mat());
+                   const cv::Mat& dynamic_mask = cv::Mat(), const cv::Mat& truth_mask = cv::Mat());
 
   /// Final voxel grid, carving and outlier removal. The builder can keep accepting
   /// keyframes afterwards (build() does not consume the accumulation).

@@ -10,8 +10,7 @@
 
 namespace dynslam {
 
-DepthBackProjector::DepthBackProjector(const PinholeCamera& camera,
-                                       BackProjectionOptions options)
+DepthBackProjector::DepthBackProjector(const PinholeCamera& camera, BackProjectionOptions options)
     : camera_(camera), options_(options) {
   if (camera.width <= 0 || camera.height <= 0 || camera.fx <= 0 || camera.fy <= 0 ||
       camera.depth_scale <= 0) {
@@ -63,10 +62,8 @@ cv::Mat DepthBackProjector::growMask(const cv::Mat& dynamic_mask) const {
   return mask;
 }
 
-void DepthBackProjector::backProject(const RGBDFrame& frame,
-                                     const mrpt::poses::CPose3D& pose_wc,
-                                     const cv::Mat& dynamic_mask,
-                                     ColoredCloud& out,
+void DepthBackProjector::backProject(const RGBDFrame& frame, const mrpt::poses::CPose3D& pose_wc,
+                                     const cv::Mat& dynamic_mask, ColoredCloud& out,
                                      std::vector<std::uint32_t>* pixel_indices) const {
   checkFrame(frame);  // image errors name the file, before any mask error
   backProjectGrown(frame, pose_wc, growMask(dynamic_mask), out, pixel_indices);
@@ -85,8 +82,8 @@ void DepthBackProjector::checkFrame(const RGBDFrame& frame) const {
 }
 
 void DepthBackProjector::backProjectGrown(const RGBDFrame& frame,
-                                          const mrpt::poses::CPose3D& pose_wc,
-                                          const cv::Mat& mask, ColoredCloud& out,
+                                          const mrpt::poses::CPose3D& pose_wc, const cv::Mat& mask,
+                                          ColoredCloud& out,
                                           std::vector<std::uint32_t>* pixel_indices) const {
   checkFrame(frame);
   const cv::Size size(camera_.width, camera_.height);

@@ -179,10 +179,9 @@ std::vector<CarvingVotes> FreeSpaceCarver::votes(const ColoredCloud& cloud) cons
       }
       // The block's centre, from its key (the cell of the first point).
       const auto& p0 = cloud[keyed[begin].second];
-      const float centre[3] = {
-          float((std::floor(double(p0.x) * inv) + 0.5) * kBlockEdge),
-          float((std::floor(double(p0.y) * inv) + 0.5) * kBlockEdge),
-          float((std::floor(double(p0.z) * inv) + 0.5) * kBlockEdge)};
+      const float centre[3] = {float((std::floor(double(p0.x) * inv) + 0.5) * kBlockEdge),
+                               float((std::floor(double(p0.y) * inv) + 0.5) * kBlockEdge),
+                               float((std::floor(double(p0.z) * inv) + 0.5) * kBlockEdge)};
       for (const Keyframe& kf : keyframes_) {
         const float* r = kf.r;
         const float cx = r[0] * centre[0] + r[1] * centre[1] + r[2] * centre[2] + kf.t[0];
@@ -217,8 +216,8 @@ std::vector<CarvingVotes> FreeSpaceCarver::votes(const ColoredCloud& cloud) cons
           CarvingVotes& vote = local[i];
           if (c.through != kNoDepth && float(c.through) > zr + m) {
             if (vote.through < 0xFFFF) ++vote.through;
-          } else if (c.conf_hi != 0 &&
-                     (std::abs(float(c.conf_lo) - zr) <= m || std::abs(float(c.conf_hi) - zr) <= m)) {
+          } else if (c.conf_hi != 0 && (std::abs(float(c.conf_lo) - zr) <= m ||
+                                        std::abs(float(c.conf_hi) - zr) <= m)) {
             if (vote.confirmed < 0xFFFF) ++vote.confirmed;
           } else if (c.dyn_hi != 0 &&
                      (std::abs(float(c.dyn_lo) - zr) <= m || std::abs(float(c.dyn_hi) - zr) <= m)) {
@@ -253,8 +252,7 @@ ColoredCloud FreeSpaceCarver::carve(const ColoredCloud& cloud, CarvingStats* sta
   if (stats) {
     stats->points = cloud.size();
     stats->removed = cloud.size() - out.size();
-    stats->seconds =
-        secondsSince(t0);
+    stats->seconds = secondsSince(t0);
   }
   return out;
 }

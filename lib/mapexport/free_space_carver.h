@@ -62,13 +62,13 @@ namespace dynslam {
 
 struct FreeSpaceCarvingOptions {
   bool enabled = true;
-  int min_views = 2;        ///< seen-through votes needed to remove a point
-  double ratio = 1.0;       ///< ... and more than ratio x the confirmations
-  double margin_m = 0.10;   ///< metres: depth agreement / see-through margin...
-  double margin_rel = 0.05; ///< ... at least this share of the point's depth
-  int window_px = 5;        ///< odd; minimum-depth window for seen-through votes
-  double dynamic_ratio = 1.0; ///< dynamic votes >= this x confirmations removes (0 = off)
-  int min_confirmations = 3;  ///< keyframes whose depth must confirm a point (0 = off)
+  int min_views = 2;           ///< seen-through votes needed to remove a point
+  double ratio = 1.0;          ///< ... and more than ratio x the confirmations
+  double margin_m = 0.10;      ///< metres: depth agreement / see-through margin...
+  double margin_rel = 0.05;    ///< ... at least this share of the point's depth
+  int window_px = 5;           ///< odd; minimum-depth window for seen-through votes
+  double dynamic_ratio = 1.0;  ///< dynamic votes >= this x confirmations removes (0 = off)
+  int min_confirmations = 3;   ///< keyframes whose depth must confirm a point (0 = off)
 };
 
 /// Throws std::invalid_argument with a message naming the bad field.

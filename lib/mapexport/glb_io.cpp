@@ -1,8 +1,8 @@
 #include "mapexport/glb_io.h"
 
+#include <assimp/scene.h>
 #include <assimp/Exporter.hpp>
 #include <assimp/Importer.hpp>
-#include <assimp/scene.h>
 
 #include <cmath>
 #include <cstdio>
@@ -60,8 +60,7 @@ aiMatrix4x4 toAiMatrix(const mrpt::poses::CPose3D& pose) {
   const auto& R = pose.getRotationMatrix();
   return aiMatrix4x4(float(R(0, 0)), float(R(0, 1)), float(R(0, 2)), float(pose.x()),
                      float(R(1, 0)), float(R(1, 1)), float(R(1, 2)), float(pose.y()),
-                     float(R(2, 0)), float(R(2, 1)), float(R(2, 2)), float(pose.z()),
-                     0, 0, 0, 1);
+                     float(R(2, 0)), float(R(2, 1)), float(R(2, 2)), float(pose.z()), 0, 0, 0, 1);
 }
 
 /// Rotation taking the map's up direction (estimateMapUp) to +Y, glTF's up axis, so
@@ -135,7 +134,8 @@ void writeGlb(const std::string& path, const MapData& map, const MapWriteOptions
       v.push_back(position(map.keyframes[i].pose));
       v.push_back(position(map.keyframes[i + 1].pose));
     }
-    meshes.push_back(makeMesh(kTrajectoryName, v, std::vector<aiColor4D>(v.size(), {1, 0, 0, 1}), 2));
+    meshes.push_back(
+        makeMesh(kTrajectoryName, v, std::vector<aiColor4D>(v.size(), {1, 0, 0, 1}), 2));
   }
   if (options.frustums && !map.keyframes.empty()) {
     const auto v = frustumSegments(map.keyframes, options);

@@ -26,8 +26,7 @@ MapFormat mapFormatFromPath(const std::string& path) {
   throw InputError(path, "unknown map format (use a .ply or .glb extension)");
 }
 
-void writeMapFile(const std::string& path, const MapData& map,
-                  const MapWriteOptions& options) {
+void writeMapFile(const std::string& path, const MapData& map, const MapWriteOptions& options) {
   switch (mapFormatFromPath(path)) {
     case MapFormat::kPly:
       writePlyBinary(path, map.points);

@@ -34,8 +34,7 @@ struct MapWriteOptions {
 /// file renamed into place). PLY holds only the points. Throws InputError
 /// for an unknown extension, std::runtime_error naming the path if it cannot
 /// be written.
-void writeMapFile(const std::string& path, const MapData& map,
-                  const MapWriteOptions& options = {});
+void writeMapFile(const std::string& path, const MapData& map, const MapWriteOptions& options = {});
 
 /// Reads a .ply (PCL) or .glb (assimp) map. Throws InputError naming the file
 /// if it is missing, unreadable, holds no points or a point that is not

@@ -22,8 +22,8 @@ struct PlyElement {
 std::size_t scalarBytes(const std::string& type) {
   if (type == "char" || type == "uchar" || type == "int8" || type == "uint8") return 1;
   if (type == "short" || type == "ushort" || type == "int16" || type == "uint16") return 2;
-  if (type == "int" || type == "uint" || type == "float" || type == "int32" ||
-      type == "uint32" || type == "float32")
+  if (type == "int" || type == "uint" || type == "float" || type == "int32" || type == "uint32" ||
+      type == "float32")
     return 4;
   if (type == "double" || type == "float64") return 8;
   return 0;
@@ -65,8 +65,8 @@ std::vector<PlyElement> readHeader(const std::string& path, std::istream& in, bo
     if (w.empty() || w[0] == "comment" || w[0] == "obj_info") continue;
     if (w[0] == "end_header") break;
     if (w[0] == "format") {
-      if (w.size() != 3 || (w[1] != "ascii" && w[1] != "binary_little_endian" &&
-                            w[1] != "binary_big_endian"))
+      if (w.size() != 3 ||
+          (w[1] != "ascii" && w[1] != "binary_little_endian" && w[1] != "binary_big_endian"))
         throw InputError(path, line_no, "unknown PLY format line '" + line + "'");
       ascii = w[1] == "ascii";
       have_format = true;
@@ -137,8 +137,8 @@ void checkBinarySize(const std::string& path, std::istream& in,
                                std::to_string(nv) + " vertices): truncated or wrong count");
   if (size > expected)
     throw InputError(path, std::to_string(size - expected) +
-                               " bytes after the data the header declares (" +
-                               std::to_string(nv) + " vertices): wrong vertex count");
+                               " bytes after the data the header declares (" + std::to_string(nv) +
+                               " vertices): wrong vertex count");
 }
 
 void checkAsciiRows(const std::string& path, std::istream& in,

@@ -94,8 +94,8 @@ ColoredCloud readMapPointsText(const std::string& path) {
     if (r < 0 || r > 255 || g < 0 || g > 255 || b < 0 || b > 255) {
       throw InputError(path, line_no, "colour components must be 0..255");
     }
-    cloud.push_back(ColoredPoint{float(x), float(y), float(z), std::uint8_t(r),
-                                 std::uint8_t(g), std::uint8_t(b)});
+    cloud.push_back(ColoredPoint{float(x), float(y), float(z), std::uint8_t(r), std::uint8_t(g),
+                                 std::uint8_t(b)});
   }
   return cloud;
 }

@@ -17,8 +17,8 @@
 #include <vector>
 
 #include "core/json_writer.h"
-#include "core/run_layout.h"
 #include "core/rgbd_frame.h"
+#include "core/run_layout.h"
 #include "core/trajectory.h"
 #include "mapexport/dense_map_builder.h"
 #include "mapexport/map_data.h"
@@ -74,13 +74,13 @@ struct ExportOptions {
 struct ExportResult {
   DenseMapStats stats;
   std::size_t points_written = 0;
-  std::string sparse_path;  ///< written sparse PLY, empty if none
+  std::string sparse_path;               ///< written sparse PLY, empty if none
   std::size_t sparse_points = 0;         ///< written (after carving)
   std::size_t sparse_carved_points = 0;  ///< removed by carving
-  std::string report_path;  ///< written report, empty if none
-  double seconds = 0;       ///< wall time of exportRun up to the report
-  double peak_rss_mb = 0;   ///< process peak resident memory at the end
-  UpEstimate up;            ///< as used for the GLB root and the render views
+  std::string report_path;               ///< written report, empty if none
+  double seconds = 0;                    ///< wall time of exportRun up to the report
+  double peak_rss_mb = 0;                ///< process peak resident memory at the end
+  UpEstimate up;                         ///< as used for the GLB root and the render views
   /// Set when truth masks were used (truth_masks_dir non-empty).
   std::string truth_masks_dir;
   std::optional<MaskShare> dense_truth;

@@ -49,7 +49,8 @@ void forEachRunKeyframe(const RunDirectory& run, const FrameSource& source,
                         const std::function<void(const RunKeyframe&)>& fuse) {
   const std::vector<double>* stamps = options.frame_timestamps;
   if (stamps && stamps->size() != source.size()) {
-    throw std::invalid_argument("forEachRunKeyframe: frame_timestamps size differs from the source");
+    throw std::invalid_argument(
+        "forEachRunKeyframe: frame_timestamps size differs from the source");
   }
   if (options.masks == DynamicMaskSource::kTruth && truth_dir.empty()) {
     throw std::invalid_argument("forEachRunKeyframe: truth masks as dynamic masks need truth_dir");
@@ -78,7 +79,8 @@ void forEachRunKeyframe(const RunDirectory& run, const FrameSource& source,
         if (!loaded) k.frame = source.load(next);
         k.keyframe = &kf;
         const cv::Size size = k.frame.depth.size();
-        if (!truth_dir.empty()) k.truth = loadTruthMask(truthMaskPath(truth_dir, k.frame.rgb_source), size);
+        if (!truth_dir.empty())
+          k.truth = loadTruthMask(truthMaskPath(truth_dir, k.frame.rgb_source), size);
         switch (options.masks) {
           case DynamicMaskSource::kRun:
             k.dynamic_mask = loadRunMask(run, kf.timestamp, size);
@@ -98,8 +100,8 @@ void forEachRunKeyframe(const RunDirectory& run, const FrameSource& source,
     if (!found) {
       char ts[64];
       std::snprintf(ts, sizeof(ts), "%.6f", kf.timestamp);
-      throw InputError(run.keyframesPath(), std::string("keyframe ") + ts +
-                                                " has no frame in " + source.description());
+      throw InputError(run.keyframesPath(),
+                       std::string("keyframe ") + ts + " has no frame in " + source.description());
     }
   }
 }

@@ -39,8 +39,7 @@ DenseMaskProvenance::Key DenseMaskProvenance::keyOf(const ColoredPoint& p) const
   return k;
 }
 
-void DenseMaskProvenance::add(const ColoredCloud& points,
-                              const std::vector<std::uint32_t>& pixels,
+void DenseMaskProvenance::add(const ColoredCloud& points, const std::vector<std::uint32_t>& pixels,
                               const cv::Mat& truth) {
   if (points.size() != pixels.size()) {
     throw std::invalid_argument("DenseMaskProvenance: one pixel index per point expected");
@@ -87,8 +86,8 @@ MaskShare DenseMaskProvenance::score(const ColoredCloud& final_cloud) const {
 
 // --------------------------------------------------------------- sparse ---
 
-SparseMaskScorer::SparseMaskScorer(ColoredCloud points, const PinholeCamera& camera,
-                                   double abs_tol, double rel_tol)
+SparseMaskScorer::SparseMaskScorer(ColoredCloud points, const PinholeCamera& camera, double abs_tol,
+                                   double rel_tol)
     : points_(std::move(points)),
       camera_(camera),
       abs_tol_(abs_tol),

@@ -99,8 +99,7 @@ class SparseMaskScorer {
   /// depth: CV_16UC1 (camera depth_scale), truth: CV_8UC1, both of the
   /// camera size; pose_wc camera-to-world. Throws std::invalid_argument on
   /// size or type mismatches.
-  void addKeyframe(const cv::Mat& depth, const mrpt::poses::CPose3D& pose_wc,
-                   const cv::Mat& truth);
+  void addKeyframe(const cv::Mat& depth, const mrpt::poses::CPose3D& pose_wc, const cv::Mat& truth);
 
   /// keep: empty, or one flag per point (non-zero = still in the map), to
   /// score a map from which points were removed afterwards (free-space

@@ -21,14 +21,14 @@ UpEstimate estimateMapUp(const MapData& map, std::array<double, 3> fallback,
   result.prior = estimateUpDirection(map.keyframes, fallback);
   result.up = result.prior;
   result.source = map.keyframes.empty() ? "fallback" : "keyframes";
-  const Eigen::Vector3d prior = Eigen::Vector3d(result.prior[0], result.prior[1],
-                                                result.prior[2]).normalized();
+  const Eigen::Vector3d prior =
+      Eigen::Vector3d(result.prior[0], result.prior[1], result.prior[2]).normalized();
 
   // Evenly spaced subsample: deterministic, and enough for planes of a few
   // percent of the map.
   const std::size_t n_all = map.points.size();
-  const std::size_t step = std::max<std::size_t>(1, (n_all + options.max_points - 1) /
-                                                        std::max<std::size_t>(1, options.max_points));
+  const std::size_t step = std::max<std::size_t>(
+      1, (n_all + options.max_points - 1) / std::max<std::size_t>(1, options.max_points));
   auto cloud = std::make_shared<pcl::PointCloud<pcl::PointXYZ>>();
   cloud->reserve(n_all / step + 1);
   for (std::size_t i = 0; i < n_all; i += step) {
@@ -41,7 +41,8 @@ UpEstimate estimateMapUp(const MapData& map, std::array<double, 3> fallback,
   if (n < min_inliers) return result;
 
   Eigen::Vector3d cameras = Eigen::Vector3d::Zero();
-  for (const auto& kf : map.keyframes) cameras += Eigen::Vector3d(kf.pose.x(), kf.pose.y(), kf.pose.z());
+  for (const auto& kf : map.keyframes)
+    cameras += Eigen::Vector3d(kf.pose.x(), kf.pose.y(), kf.pose.z());
   if (!map.keyframes.empty()) cameras /= double(map.keyframes.size());
 
   // PCL reports every collinear draw on the console; they are expected here.
@@ -87,15 +88,15 @@ UpEstimate estimateMapUp(const MapData& map, std::array<double, 3> fallback,
       cov += d * d.transpose();
     }
     cov /= double(inliers.size());
-    const double spread = std::sqrt(std::max(
-        0.0, Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(cov, Eigen::EigenvaluesOnly)
-                 .eigenvalues()(1)));
+    const double spread = std::sqrt(
+        std::max(0.0, Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(cov, Eigen::EigenvaluesOnly)
+                          .eigenvalues()(1)));
     if (norm > 1e-9 && spread >= options.min_plane_spread) {
       normal /= norm;
       offset /= norm;
       // Seen from the front: the cameras are on the positive side.
-      const bool flip = map.keyframes.empty() ? normal.dot(prior) < 0
-                                              : normal.dot(cameras) + offset < 0;
+      const bool flip =
+          map.keyframes.empty() ? normal.dot(prior) < 0 : normal.dot(cameras) + offset < 0;
       if (flip) normal = -normal;
       if (normal.dot(prior) >= cos_limit && inliers.size() > best_inliers) {
         best_inliers = inliers.size();
@@ -113,7 +114,8 @@ UpEstimate estimateMapUp(const MapData& map, std::array<double, 3> fallback,
     remaining.swap(rest);
   }
   const Eigen::Vector3d up(result.up[0], result.up[1], result.up[2]);
-  result.prior_angle_deg = std::acos(std::clamp(up.normalized().dot(prior), -1.0, 1.0)) * 180 / M_PI;
+  result.prior_angle_deg =
+      std::acos(std::clamp(up.normalized().dot(prior), -1.0, 1.0)) * 180 / M_PI;
   return result;
 }
 

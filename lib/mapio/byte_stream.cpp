@@ -7,7 +7,8 @@ namespace dynslam::mapio {
 namespace {
 template <typename T>
 void putLE(std::string& out, T v) {
-  for (std::size_t i = 0; i < sizeof(T); ++i) out.push_back(static_cast<char>((v >> (8 * i)) & 0xff));
+  for (std::size_t i = 0; i < sizeof(T); ++i)
+    out.push_back(static_cast<char>((v >> (8 * i)) & 0xff));
 }
 template <typename T>
 T getLE(const char* p) {

@@ -97,7 +97,8 @@ std::shared_ptr<FeatureSet> readFeatures(ByteReader& r, std::shared_ptr<const Fr
   f->keys = readKeyPoints(r, n, ctx->levels);
   f->keys_un = readKeyPoints(r, n, ctx->levels);
   f->descriptors = cv::Mat(static_cast<int>(n), static_cast<int>(kDescriptorBytes), CV_8UC1);
-  for (std::size_t i = 0; i < n; ++i) r.bytes(f->descriptors.ptr<uint8_t>(static_cast<int>(i)), kDescriptorBytes);
+  for (std::size_t i = 0; i < n; ++i)
+    r.bytes(f->descriptors.ptr<uint8_t>(static_cast<int>(i)), kDescriptorBytes);
   f->depth.resize(n);
   for (float& d : f->depth) d = r.f32();
   f->ur.resize(n);
@@ -215,7 +216,8 @@ std::string encodeMap(const Map& map, const FrameContext& ctx, uint64_t vocabula
     for (const auto& [kf, idx] : p->obs)
       if (isSaved(kf)) obs.emplace_back(kf, idx);
     // A reference keyframe that is gone is replaced as eraseObservation does.
-    const KeyFrame* ref = isSaved(p->ref_kf) ? p->ref_kf : (obs.empty() ? nullptr : obs.front().first);
+    const KeyFrame* ref =
+        isSaved(p->ref_kf) ? p->ref_kf : (obs.empty() ? nullptr : obs.front().first);
     w.i64(ref ? ref->id : -1);
     w.i64(p->first_kf_id);
     w.i32(p->visible);
@@ -232,7 +234,8 @@ std::string encodeMap(const Map& map, const FrameContext& ctx, uint64_t vocabula
   for (const KeyFrame* kf : kfs) {
     std::vector<std::pair<uint32_t, long>> links;
     for (std::size_t i = 0; i < kf->points.size(); ++i)
-      if (kf->points[i] && saved_points.count(kf->points[i])) links.emplace_back(i, kf->points[i]->id);
+      if (kf->points[i] && saved_points.count(kf->points[i]))
+        links.emplace_back(i, kf->points[i]->id);
     w.u32(static_cast<uint32_t>(links.size()));
     for (const auto& [i, id] : links) {
       w.u32(i);
@@ -259,9 +262,10 @@ std::string encodeMap(const Map& map, const FrameContext& ctx, uint64_t vocabula
 void saveMap(const std::string& path, const Map& map, const FrameContext& ctx,
              uint64_t vocabulary_checksum) {
   const std::string bytes = encodeMap(map, ctx, vocabulary_checksum);
-  writeFileAtomically(path, [&](std::ostream& os) {
-    os.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-  }, true);
+  writeFileAtomically(
+      path,
+      [&](std::ostream& os) { os.write(bytes.data(), static_cast<std::streamsize>(bytes.size())); },
+      true);
 }
 
 namespace {
@@ -276,7 +280,8 @@ std::string readWholeFile(const std::string& path) {
 }
 
 void checkHeader(const std::string& path, const std::string& bytes) {
-  if (bytes.size() < sizeof kMapMagic || std::memcmp(bytes.data(), kMapMagic, sizeof kMapMagic) != 0)
+  if (bytes.size() < sizeof kMapMagic ||
+      std::memcmp(bytes.data(), kMapMagic, sizeof kMapMagic) != 0)
     throw InputError(path, "not a dynslam map file (no DYNSLMAP header)");
   if (bytes.size() < kMapHeaderBytes)
     throw InputError(path, "truncated map file: " + std::to_string(bytes.size()) +
@@ -284,18 +289,19 @@ void checkHeader(const std::string& path, const std::string& bytes) {
   ByteReader at_version(std::string_view(bytes).substr(kOffVersion));
   const uint32_t version = at_version.u32();
   if (version != kMapVersion)
-    throw InputError(path, "map file version " + std::to_string(version) + ", this dynslam reads version " +
-                               std::to_string(kMapVersion));
+    throw InputError(path, "map file version " + std::to_string(version) +
+                               ", this dynslam reads version " + std::to_string(kMapVersion));
   const uint32_t header_bytes = at_version.u32();
   const uint64_t payload = at_version.u64();
   const uint32_t crc = at_version.u32();
   if (header_bytes != kMapHeaderBytes) throw InputError(path, "corrupt map file header");
   if (bytes.size() - kMapHeaderBytes < payload)
-    throw InputError(path, "truncated map file: " + std::to_string(bytes.size()) + " bytes, expected " +
-                               std::to_string(kMapHeaderBytes + payload));
+    throw InputError(path, "truncated map file: " + std::to_string(bytes.size()) +
+                               " bytes, expected " + std::to_string(kMapHeaderBytes + payload));
   if (bytes.size() - kMapHeaderBytes > payload)
-    throw InputError(path, "corrupt map file: " + std::to_string(bytes.size() - kMapHeaderBytes - payload) +
-                               " bytes after the end of the map");
+    throw InputError(
+        path, "corrupt map file: " + std::to_string(bytes.size() - kMapHeaderBytes - payload) +
+                  " bytes after the end of the map");
   if (crc32Of(bytes, kMapHeaderBytes) != crc)
     throw InputError(path, "checksum mismatch: the map file is corrupt");
 }
@@ -313,7 +319,8 @@ void readMapBody(ByteReader& r, Map& map, std::shared_ptr<const FrameContext> ct
     const std::size_t frame_index = r.u64();
     const CameraPose pose = CameraPose::exact(readPose(r));
     const bool keep = r.u8() != 0;
-    KeyFrame* kf = map.restoreKeyFrame(id, frame_id, timestamp, frame_index, readFeatures(r, ctx), pose);
+    KeyFrame* kf =
+        map.restoreKeyFrame(id, frame_id, timestamp, frame_index, readFeatures(r, ctx), pose);
     kf->keep = keep;
     kfs[id] = kf;
     kf_order.push_back(kf);

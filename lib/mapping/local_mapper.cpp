@@ -65,7 +65,8 @@ void LocalMapper::waitForWriteBackSlot(const KeyFrame* kf) {
   // frame c + lag), or a newer keyframe needs its phase A before the frame
   // after it, or the run is ending.
   sync_cv_.wait(lk, [&] {
-    return flushing_ || inserted_ > done_ + 1 || tracked_frame_ >= kf->frame_id + p_.ba_lag_frames - 1;
+    return flushing_ || inserted_ > done_ + 1 ||
+           tracked_frame_ >= kf->frame_id + p_.ba_lag_frames - 1;
   });
 }
 
@@ -229,8 +230,10 @@ void LocalMapper::createNewPoints(KeyFrame* kf) {
       const Eigen::Vector3d c1 = kf->pose.toCamera(X), c2 = nb->pose.toCamera(X);
       if (c1.z() <= 0 || c2.z() <= 0) continue;
       const Eigen::Vector2d p1 = ctx.proj.project(c1), p2 = ctx.proj.project(c2);
-      if ((p1 - Eigen::Vector2d(k1.pt.x, k1.pt.y)).squaredNorm() > 5.991 * ctx.sigma2[k1.octave]) continue;
-      if ((p2 - Eigen::Vector2d(k2.pt.x, k2.pt.y)).squaredNorm() > 5.991 * ctx.sigma2[k2.octave]) continue;
+      if ((p1 - Eigen::Vector2d(k1.pt.x, k1.pt.y)).squaredNorm() > 5.991 * ctx.sigma2[k1.octave])
+        continue;
+      if ((p2 - Eigen::Vector2d(k2.pt.x, k2.pt.y)).squaredNorm() > 5.991 * ctx.sigma2[k2.octave])
+        continue;
       const double d1 = (X - kf->pose.center()).norm(), d2 = (X - nb->pose.center()).norm();
       if (d1 == 0 || d2 == 0) continue;
       const double ratio_dist = d2 / d1;
@@ -280,8 +283,9 @@ void LocalMapper::fuseWithNeighbours(KeyFrame* kf) {
     }
   }
   const int fused_in = matcher_.fuse(kf, cand);
-  logf(LogLevel::kDebug, "map", "kf %ld fusion: %zu targets, %zu own points -> %d fused; %zu candidates -> %d fused",
-                 kf->id, targets.size(), own.size(), fused_out, cand.size(), fused_in);
+  logf(LogLevel::kDebug, "map",
+       "kf %ld fusion: %zu targets, %zu own points -> %d fused; %zu candidates -> %d fused", kf->id,
+       targets.size(), own.size(), fused_out, cand.size(), fused_in);
   for (MapPoint* mp : kf->points) {
     if (mp && !mp->bad) {
       mp->updateDescriptor();

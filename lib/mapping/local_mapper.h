@@ -34,9 +34,11 @@ struct LocalMapperParams {
   int fusion_neighbours = 10;         ///< first-order neighbours for duplicate fusion
   int fusion_second_order = 5;        ///< second-order neighbours per first-order one
   double min_found_ratio = 0.25;      ///< recent points found/visible below: culled
-  int min_observations = 2;           ///< recent points seen by fewer keyframes (after 2 more keyframes): culled
-  double redundant_ratio = 0.9;       ///< keyframe culled when this share of its points is seen elsewhere
-  int redundant_observers = 3;        ///< ...by at least this many other keyframes
+  int min_observations =
+      2;  ///< recent points seen by fewer keyframes (after 2 more keyframes): culled
+  double redundant_ratio =
+      0.9;                      ///< keyframe culled when this share of its points is seen elsewhere
+  int redundant_observers = 3;  ///< ...by at least this many other keyframes
   bool local_ba = true;
   /// Local BA window: the new keyframe and its most covisible neighbours.
   /// In rotation-heavy sequences every keyframe is covisible with every

@@ -27,11 +27,20 @@ std::vector<int> RotationHistogram::outliers() const {
   for (int i = 0; i < kBins; ++i) {
     const int s = static_cast<int>(bins_[i].size());
     if (s > m1) {
-      m3 = m2; i3 = i2; m2 = m1; i2 = i1; m1 = s; i1 = i;
+      m3 = m2;
+      i3 = i2;
+      m2 = m1;
+      i2 = i1;
+      m1 = s;
+      i1 = i;
     } else if (s > m2) {
-      m3 = m2; i3 = i2; m2 = s; i2 = i;
+      m3 = m2;
+      i3 = i2;
+      m2 = s;
+      i2 = i;
     } else if (s > m3) {
-      m3 = s; i3 = i;
+      m3 = s;
+      i3 = i;
     }
   }
   if (m2 < 0.1 * m1) i2 = -1;
@@ -56,9 +65,9 @@ int FeatureMatcher::searchByProjection(Frame& cur, const Frame& last, float th) 
     if (!ctx.inImage(uvr.x(), uvr.y())) continue;
     const int last_level = last.f().keys_un[i].octave;
     const float radius = th * ctx.scale[last_level];
-    const auto cand = cf.featuresInArea(static_cast<float>(uvr.x()), static_cast<float>(uvr.y()),
-                                        radius, std::max(0, last_level - 1),
-                                        std::min(ctx.levels - 1, last_level + 1));
+    const auto cand =
+        cf.featuresInArea(static_cast<float>(uvr.x()), static_cast<float>(uvr.y()), radius,
+                          std::max(0, last_level - 1), std::min(ctx.levels - 1, last_level + 1));
     if (cand.empty()) continue;
     const uint8_t* d = mp->descriptor.ptr<uint8_t>();
     int best = INT_MAX, best_idx = -1;
@@ -98,7 +107,10 @@ int FeatureMatcher::searchByProjection(Frame& cur, const std::vector<MapPoint*>&
     const int level = mp->pred_level;
     const float r = th * (mp->view_cos > 0.998f ? 2.5f : 4.0f) * ctx.scale[level];
     const auto cand = cf.featuresInArea(mp->proj_x, mp->proj_y, r, level - 1, level);
-    if (cand.empty()) { ++no_cand; continue; }
+    if (cand.empty()) {
+      ++no_cand;
+      continue;
+    }
     const uint8_t* d = mp->descriptor.ptr<uint8_t>();
     int best = INT_MAX, second = INT_MAX, best_idx = -1, best_level = -1, second_level = -1;
     int free = 0;
@@ -118,14 +130,24 @@ int FeatureMatcher::searchByProjection(Frame& cur, const std::vector<MapPoint*>&
         second_level = cf.keys_un[j].octave;
       }
     }
-    if (free == 0) { ++all_taken; continue; }
-    if (best > p_.th_high) { ++too_far; continue; }
-    if (best_level == second_level && best > p_.nn_ratio * second) { ++ratio_fail; continue; }
+    if (free == 0) {
+      ++all_taken;
+      continue;
+    }
+    if (best > p_.th_high) {
+      ++too_far;
+      continue;
+    }
+    if (best_level == second_level && best > p_.nn_ratio * second) {
+      ++ratio_fail;
+      continue;
+    }
     cur.points[best_idx] = mp;
     ++n;
   }
-  logf(LogLevel::kTrace, "match", "local: %d matched, %d no candidate, %d all taken, %d descriptor too far, %d ratio",
-                 n, no_cand, all_taken, too_far, ratio_fail);
+  logf(LogLevel::kTrace, "match",
+       "local: %d matched, %d no candidate, %d all taken, %d descriptor too far, %d ratio", n,
+       no_cand, all_taken, too_far, ratio_fail);
   return n;
 }
 
@@ -175,8 +197,8 @@ int FeatureMatcher::searchByDescriptor(const KeyFrame& kf, Frame& cur) const {
   return n;
 }
 
-std::vector<std::pair<int, int>> FeatureMatcher::searchForTriangulation(
-    const KeyFrame& k1, const KeyFrame& k2) const {
+std::vector<std::pair<int, int>> FeatureMatcher::searchForTriangulation(const KeyFrame& k1,
+                                                                        const KeyFrame& k2) const {
   const FeatureSet& f1 = k1.f();
   const FeatureSet& f2 = k2.f();
   const FrameContext& ctx = *f1.ctx;
@@ -280,8 +302,10 @@ int FeatureMatcher::fuse(KeyFrame* kf, const std::vector<MapPoint*>& points, flo
     if (best > p_.th_low) continue;
     MapPoint* existing = kf->points[best_j];
     if (existing && !existing->bad) {
-      if (existing->nObs() > mp->nObs()) mp->replaceWith(existing);
-      else existing->replaceWith(mp);
+      if (existing->nObs() > mp->nObs())
+        mp->replaceWith(existing);
+      else
+        existing->replaceWith(mp);
     } else {
       mp->addObservation(kf, best_j);
       kf->addPoint(mp, best_j);

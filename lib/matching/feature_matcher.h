@@ -13,9 +13,10 @@
 namespace dynslam {
 
 struct MatcherParams {
-  int th_high = 100;          ///< max Hamming distance for a projection match (ORB-SLAM's value; 80 tracked fewer points and gave a worse ATE on fr1_rpy)
-  int th_low = 50;            ///< max Hamming distance for strict matches
-  float nn_ratio = 0.8f;      ///< best / second-best ratio test
+  int th_high = 100;  ///< max Hamming distance for a projection match (ORB-SLAM's value; 80 tracked
+                      ///< fewer points and gave a worse ATE on fr1_rpy)
+  int th_low = 50;    ///< max Hamming distance for strict matches
+  float nn_ratio = 0.8f;  ///< best / second-best ratio test
   bool check_orientation = true;
 };
 

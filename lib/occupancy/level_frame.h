@@ -19,8 +19,8 @@ namespace dynslam {
 
 struct LevelFrame {
   Eigen::Matrix3d R = Eigen::Matrix3d::Identity();  ///< world -> level rotation
-  double floor_height = 0;  ///< level z of the floor surface
-  std::string floor_source = "none";  ///< "floor layer", "lowest cells" or "none"
+  double floor_height = 0;                          ///< level z of the floor surface
+  std::string floor_source = "none";                ///< "floor layer", "lowest cells" or "none"
 
   /// Level coordinates of a world point.
   Eigen::Vector3d toLevel(const Eigen::Vector3d& p_world) const { return R * p_world; }

@@ -38,8 +38,8 @@ std::string yamlText(const std::string& image_name, const OccupancyGrid2D& grid,
   y << "# 2D occupancy grid of the static scene (dynslam export), ROS map_server format.\n"
        "# Grid frame = level frame: z is up, p_level = R * p_world (SLAM world frame);\n";
   for (int r = 0; r < 3; ++r) {
-    std::snprintf(buf, sizeof buf, "#   R row %d: %.6f %.6f %.6f\n", r, frame.R(r, 0), frame.R(r, 1),
-                  frame.R(r, 2));
+    std::snprintf(buf, sizeof buf, "#   R row %d: %.6f %.6f %.6f\n", r, frame.R(r, 0),
+                  frame.R(r, 1), frame.R(r, 2));
     y << buf;
   }
   std::snprintf(buf, sizeof buf, "# floor at level z = %.4f m (%s)\n", frame.floor_height,
@@ -63,7 +63,10 @@ void writeMapServerFiles(const std::string& yaml_path, const OccupancyGrid2D& gr
   }
   const std::string text = yamlText(fs::path(image_path).filename().string(), grid, frame);
   writeFileAtomically(
-      image_path, [&](std::ostream& out) { out.write(reinterpret_cast<const char*>(pgm.data()), std::streamsize(pgm.size())); },
+      image_path,
+      [&](std::ostream& out) {
+        out.write(reinterpret_cast<const char*>(pgm.data()), std::streamsize(pgm.size()));
+      },
       /*binary=*/true);
   try {
     writeFileAtomically(yaml_path, [&](std::ostream& out) { out << text; });

@@ -33,7 +33,8 @@ LevelFrame levelFrameOf(const ColoredCloud& surface, const UpEstimate& up,
   level.R = levelRotation(up.up);
   std::vector<double> heights;
   heights.reserve(surface.size());
-  for (const auto& p : surface) heights.push_back(level.R.row(2).dot(Eigen::Vector3d(p.x, p.y, p.z)));
+  for (const auto& p : surface)
+    heights.push_back(level.R.row(2).dot(Eigen::Vector3d(p.x, p.y, p.z)));
   estimateFloor(heights, o.resolution, o.floor_min_area, level);
   return level;
 }
@@ -93,8 +94,8 @@ void writeReport(const std::string& path, const RunDirectory& run, const FrameSo
         .value("standing_share", r.swept->standingShare())
         .endObject();
   }
-  for (const auto& [key, overlap] : {std::pair{"reference", &r.reference},
-                                      std::pair{"reference_strict", &r.reference_strict}}) {
+  for (const auto& [key, overlap] :
+       {std::pair{"reference", &r.reference}, std::pair{"reference_strict", &r.reference_strict}}) {
     if (!*overlap) continue;
     const OccupiedOverlap& v = **overlap;
     j.beginObject(key)
@@ -167,7 +168,8 @@ OccupancyExportResult exportOccupancyRun(const RunDirectory& run, const FrameSou
 
   t = SteadyClock::now();
   if (grid_output) {
-    r.grid = projectToGrid(tree, r.level, GridBand{options.grid_floor_height, options.grid_robot_height});
+    r.grid = projectToGrid(tree, r.level,
+                           GridBand{options.grid_floor_height, options.grid_robot_height});
     r.phases["grid"] = secondsSince(t);
     t = SteadyClock::now();
     writeMapServerFiles(out_path, *r.grid, r.level);

@@ -27,20 +27,20 @@ namespace dynslam {
 bool isOccupancyMapPath(const std::string& path);
 
 struct OccupancyExportOptions {
-  ExportOptions run;      ///< frames, truth masks, mask source, report path
-  std::string reference;  ///< an OctoMap (.bt) to compare with; "" = none
+  ExportOptions run;            ///< frames, truth masks, mask source, report path
+  std::string reference;        ///< an OctoMap (.bt) to compare with; "" = none
   int reference_tolerance = 1;  ///< cells (octree_overlap.h)
 };
 
 struct OccupancyExportResult {
-  std::string output;   ///< the .bt, or the .yaml (its .pgm beside it)
+  std::string output;  ///< the .bt, or the .yaml (its .pgm beside it)
   OccupancyMapStats stats;
-  CellCounts cells;     ///< of the final map, finest resolution
+  CellCounts cells;  ///< of the final map, finest resolution
   UpEstimate up;
   LevelFrame level;
   std::optional<OccupancyGrid2D> grid;  ///< for .yaml outputs
   std::string truth_masks_dir;
-  std::optional<MaskShare> swept;       ///< occupied cells in the people's swept volume
+  std::optional<MaskShare> swept;  ///< occupied cells in the people's swept volume
   std::string reference_path;
   std::optional<OccupiedOverlap> reference;         ///< within reference_tolerance
   std::optional<OccupiedOverlap> reference_strict;  ///< the same cells only

@@ -15,8 +15,8 @@ namespace dynslam {
 
 struct OccupancyGrid2D {
   enum Cell : std::int8_t { kUnknown = -1, kFree = 0, kOccupied = 100 };
-  int width = 0, height = 0;  ///< cells along level x and level y
-  double resolution = 0.05;   ///< metres per cell
+  int width = 0, height = 0;          ///< cells along level x and level y
+  double resolution = 0.05;           ///< metres per cell
   double origin_x = 0, origin_y = 0;  ///< level x, y of the corner of cell (0, 0)
   std::vector<std::int8_t> cells;     ///< row-major, row = level y index (0 = lowest y)
 

@@ -25,8 +25,8 @@
 #include <opencv2/core.hpp>
 
 #include <memory>
-#include <unordered_map>
 #include <optional>
+#include <unordered_map>
 
 #include "core/rgbd_frame.h"
 #include "mapexport/dense_map_builder.h"
@@ -40,9 +40,9 @@ namespace dynslam {
 
 struct OccupancyMapStats {
   std::size_t keyframes = 0;
-  std::size_t rays = 0;            ///< static pixels ray cast
+  std::size_t rays = 0;                     ///< static pixels ray cast
   std::size_t occupied_before_carving = 0;  ///< cells
-  std::size_t carved_cells = 0;    ///< occupied cells that carving set free
+  std::size_t carved_cells = 0;             ///< occupied cells that carving set free
   double ray_casting_seconds = 0;
   double carving_seconds = 0;
 };

@@ -45,7 +45,8 @@ std::unique_ptr<octomap::OcTree> readOctoMapFile(const std::string& path) {
   }
   if (!ok || in.bad()) {
     said = said.substr(0, said.find('\n'));
-    throw InputError(path, "not an OctoMap binary (.bt) file" + (said.empty() ? "" : " (" + said + ")"));
+    throw InputError(path,
+                     "not an OctoMap binary (.bt) file" + (said.empty() ? "" : " (" + said + ")"));
   }
   return tree;
 }

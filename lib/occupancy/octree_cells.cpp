@@ -46,9 +46,8 @@ ColoredCloud cellCentres(const octomap::OcTree& tree, const std::vector<octomap:
 
 CellCounts countCells(const octomap::OcTree& tree) {
   CellCounts c;
-  forEachCell(tree, [&](const octomap::OcTreeKey&, bool occupied) {
-    (occupied ? c.occupied : c.free)++;
-  });
+  forEachCell(
+      tree, [&](const octomap::OcTreeKey&, bool occupied) { (occupied ? c.occupied : c.free)++; });
   return c;
 }
 

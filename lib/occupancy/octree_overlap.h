@@ -17,11 +17,13 @@ namespace dynslam {
 
 struct OccupiedOverlap {
   int tolerance = 1;
-  std::size_t map_cells = 0;             ///< occupied cells of the map
-  std::size_t reference_cells = 0;       ///< occupied cells of the reference
-  std::size_t reference_in_map = 0;      ///< reference cells the map also holds
-  std::size_t map_in_reference = 0;      ///< map cells the reference also holds
-  double referenceShare() const { return reference_cells ? double(reference_in_map) / reference_cells : 0; }
+  std::size_t map_cells = 0;         ///< occupied cells of the map
+  std::size_t reference_cells = 0;   ///< occupied cells of the reference
+  std::size_t reference_in_map = 0;  ///< reference cells the map also holds
+  std::size_t map_in_reference = 0;  ///< map cells the reference also holds
+  double referenceShare() const {
+    return reference_cells ? double(reference_in_map) / reference_cells : 0;
+  }
   double mapShare() const { return map_cells ? double(map_in_reference) / map_cells : 0; }
 };
 

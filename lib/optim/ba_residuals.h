@@ -68,8 +68,7 @@ class LeftSE3Manifold final : public ceres::Manifold {
     J.topRows<6>().setIdentity();
     return true;
   }
-  bool RightMultiplyByPlusJacobian(const double* /*x*/, int num_rows,
-                                   const double* ambient_matrix,
+  bool RightMultiplyByPlusJacobian(const double* /*x*/, int num_rows, const double* ambient_matrix,
                                    double* tangent_matrix) const override {
     for (int r = 0; r < num_rows; ++r) {
       for (int c = 0; c < 6; ++c) tangent_matrix[r * 6 + c] = ambient_matrix[r * 7 + c];

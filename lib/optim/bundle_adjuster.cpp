@@ -29,8 +29,8 @@ using PoseBlock = std::array<double, kPoseBlockSize>;
 bool hasDepth(const BAObservation& o) { return o.ur >= 0.0; }
 
 bool validIndices(const BAProblem& p, const BAObservation& o) {
-  return o.keyframe >= 0 && o.keyframe < static_cast<int>(p.keyframes.size()) &&
-         o.point >= 0 && o.point < static_cast<int>(p.points.size());
+  return o.keyframe >= 0 && o.keyframe < static_cast<int>(p.keyframes.size()) && o.point >= 0 &&
+         o.point < static_cast<int>(p.points.size());
 }
 
 /// Huber loss that stage 2 turns into the plain quadratic without rebuilding
@@ -93,7 +93,8 @@ std::vector<double> allChi2(const BAProblem& p, const BAState& s) {
   for (std::size_t k = 0; k < poses.size(); ++k) poses[k] = s.rigid(static_cast<int>(k));
   for (std::size_t i = 0; i < chi2.size(); ++i) {
     const auto& o = p.observations[i];
-    if (validIndices(p, o)) chi2[i] = chi2Of(p.camera, poses[o.keyframe], p.points[o.point].position, o);
+    if (validIndices(p, o))
+      chi2[i] = chi2Of(p.camera, poses[o.keyframe], p.points[o.point].position, o);
   }
   return chi2;
 }
@@ -113,8 +114,12 @@ double robustCost(const BAProblem& p, const std::vector<double>& chi2, const BAP
 class CeresBA {
  public:
   CeresBA(BAProblem& p, BAState& s, const BAParams& params)
-      : p_(p), s_(s), params_(params), mono_loss_(std::sqrt(params.chi2_mono)),
-        stereo_loss_(std::sqrt(params.chi2_stereo)), ids_(p.observations.size(), nullptr) {
+      : p_(p),
+        s_(s),
+        params_(params),
+        mono_loss_(std::sqrt(params.chi2_mono)),
+        stereo_loss_(std::sqrt(params.chi2_stereo)),
+        ids_(p.observations.size(), nullptr) {
     costs_.reserve(p.observations.size());
     ceres::Problem::Options opts;
     opts.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
@@ -219,7 +224,8 @@ class CeresBA {
 
 void writeBackPoses(BAProblem& p, const BAState& s) {
   for (std::size_t k = 0; k < p.keyframes.size(); ++k) {
-    if (!p.keyframes[k].fixed) p.keyframes[k].pose_wc = -optim::toPose(s.rigid(static_cast<int>(k)));
+    if (!p.keyframes[k].fixed)
+      p.keyframes[k].pose_wc = -optim::toPose(s.rigid(static_cast<int>(k)));
   }
 }
 

@@ -38,8 +38,8 @@ struct BAProblem {
 };
 
 struct BAParams {
-  int iterations_first = 5;   ///< with the robust kernel
-  int iterations_second = 10; ///< after dropping outliers
+  int iterations_first = 5;    ///< with the robust kernel
+  int iterations_second = 10;  ///< after dropping outliers
   double chi2_mono = 5.991;
   double chi2_stereo = 7.815;
   /// Ceres threads. 1 (default) keeps the result bit-for-bit reproducible and

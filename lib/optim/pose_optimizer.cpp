@@ -40,8 +40,8 @@ struct Kernel {
 /// Adds one observation with an N-dimensional residual to `lin`.
 template <int N>
 void accumulate(const ProjectionModel& cam, const Eigen::Vector3d& pc,
-                const Eigen::Matrix<double, N, 1>& measured, double inv_sigma2,
-                bool robust, double delta, Linearization& lin) {
+                const Eigen::Matrix<double, N, 1>& measured, double inv_sigma2, bool robust,
+                double delta, Linearization& lin) {
   const Eigen::Matrix<double, N, 1> r = optim::predict<N>(cam, pc) - measured;
   const double chi2 = inv_sigma2 * r.squaredNorm();
   if (!std::isfinite(chi2)) return;  // one corrupt observation must not poison H
@@ -59,8 +59,8 @@ void accumulate(const ProjectionModel& cam, const Eigen::Vector3d& pc,
 }
 
 Linearization linearize(const ProjectionModel& cam, const Rigid& T_cw,
-                        const std::vector<PoseObservation>& obs,
-                        const std::vector<bool>& active, const Kernel& k) {
+                        const std::vector<PoseObservation>& obs, const std::vector<bool>& active,
+                        const Kernel& k) {
   Linearization lin;
   for (std::size_t i = 0; i < obs.size(); ++i) {
     if (!active[i]) continue;
@@ -68,8 +68,8 @@ Linearization linearize(const ProjectionModel& cam, const Rigid& T_cw,
     if (!(pc.z() > optim::kMinDepth)) continue;  // behind, or NaN input
     const auto& o = obs[i];
     if (hasDepth(o)) {
-      accumulate<3>(cam, pc, Eigen::Vector3d(o.pixel.x(), o.pixel.y(), o.ur),
-                    o.inv_sigma2, k.robust, k.delta_stereo, lin);
+      accumulate<3>(cam, pc, Eigen::Vector3d(o.pixel.x(), o.pixel.y(), o.ur), o.inv_sigma2,
+                    k.robust, k.delta_stereo, lin);
     } else {
       accumulate<2>(cam, pc, o.pixel, o.inv_sigma2, k.robust, k.delta_mono, lin);
     }
@@ -90,9 +90,8 @@ double chi2Of(const ProjectionModel& cam, const Rigid& T_cw, const PoseObservati
 }
 
 /// Marks each observation inlier/outlier at T_cw; returns the inlier count.
-int classify(const ProjectionModel& cam, const Rigid& T_cw,
-             const std::vector<PoseObservation>& obs, const PoseOptimizerParams& p,
-             std::vector<bool>& inlier) {
+int classify(const ProjectionModel& cam, const Rigid& T_cw, const std::vector<PoseObservation>& obs,
+             const PoseOptimizerParams& p, std::vector<bool>& inlier) {
   int n = 0;
   for (std::size_t i = 0; i < obs.size(); ++i) {
     const double threshold = hasDepth(obs[i]) ? p.chi2_stereo : p.chi2_mono;
@@ -105,8 +104,8 @@ int classify(const ProjectionModel& cam, const Rigid& T_cw,
 /// One round of LM on the active observations; updates T_cw in place and
 /// returns the number of linear solves.
 int optimizeRound(const ProjectionModel& cam, const std::vector<PoseObservation>& obs,
-                  const std::vector<bool>& active, const Kernel& k,
-                  const PoseOptimizerParams& p, mrpt::poses::CPose3D& T_cw) {
+                  const std::vector<bool>& active, const Kernel& k, const PoseOptimizerParams& p,
+                  mrpt::poses::CPose3D& T_cw) {
   Linearization lin = linearize(cam, optim::toRigid(T_cw), obs, active, k);
   double lambda = 1e-5;  // relative (Marquardt) damping: ~GN unless steps fail
   int solves = 0;
@@ -140,8 +139,7 @@ int optimizeRound(const ProjectionModel& cam, const std::vector<PoseObservation>
 
 }  // namespace
 
-PoseOptimizerResult optimizePose(const ProjectionModel& cam,
-                                 const mrpt::poses::CPose3D& initial_wc,
+PoseOptimizerResult optimizePose(const ProjectionModel& cam, const mrpt::poses::CPose3D& initial_wc,
                                  const std::vector<PoseObservation>& obs,
                                  const PoseOptimizerParams& params) {
   PoseOptimizerResult result;

@@ -49,8 +49,7 @@ struct PoseOptimizerResult {
 
 /// initial_wc: camera-to-world initial guess. Observations behind the camera
 /// are outliers. Deterministic.
-PoseOptimizerResult optimizePose(const ProjectionModel& cam,
-                                 const mrpt::poses::CPose3D& initial_wc,
+PoseOptimizerResult optimizePose(const ProjectionModel& cam, const mrpt::poses::CPose3D& initial_wc,
                                  const std::vector<PoseObservation>& obs,
                                  const PoseOptimizerParams& params = {});
 

@@ -80,8 +80,7 @@ inline Vector6d leftIncrementBetween(const mrpt::poses::CPose3D& from,
 inline Eigen::Quaterniond quaternionExp(const Eigen::Vector3d& omega) {
   const double theta = omega.norm();
   if (theta < 1e-10) {
-    return Eigen::Quaterniond(1.0, 0.5 * omega.x(), 0.5 * omega.y(), 0.5 * omega.z())
-        .normalized();
+    return Eigen::Quaterniond(1.0, 0.5 * omega.x(), 0.5 * omega.y(), 0.5 * omega.z()).normalized();
   }
   return Eigen::Quaterniond(Eigen::AngleAxisd(theta, omega / theta));
 }
@@ -111,8 +110,7 @@ inline Eigen::Matrix<double, N, 3> projectionJacobian(const ProjectionModel& cam
 
 /// Predicted (u, v) or (u, v, ur) of a camera-frame point.
 template <int N>
-inline Eigen::Matrix<double, N, 1> predict(const ProjectionModel& cam,
-                                           const Eigen::Vector3d& pc) {
+inline Eigen::Matrix<double, N, 1> predict(const ProjectionModel& cam, const Eigen::Vector3d& pc) {
   if constexpr (N == 2) {
     return cam.project(pc);
   } else {

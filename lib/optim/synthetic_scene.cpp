@@ -77,10 +77,9 @@ PoseScene makePoseScene(const ProjectionModel& cam, const PoseSceneParams& p) {
 
   for (int i = 0; i < p.observations; ++i) {
     const Eigen::Vector3d pc = cam.unproject(U(rng), V(rng), Z(rng));
-    const BAObservation o = s.is_outlier[i]
-                                ? observe(cam, cam.unproject(U(rng), V(rng), Z(rng)),
-                                          p.with_depth, p.pixel_sigma, rng)
-                                : observe(cam, pc, p.with_depth, p.pixel_sigma, rng);
+    const BAObservation o = s.is_outlier[i] ? observe(cam, cam.unproject(U(rng), V(rng), Z(rng)),
+                                                      p.with_depth, p.pixel_sigma, rng)
+                                            : observe(cam, pc, p.with_depth, p.pixel_sigma, rng);
     PoseObservation po;
     po.point_world = T_wc * pc;
     po.pixel = o.pixel;

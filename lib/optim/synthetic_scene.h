@@ -21,7 +21,7 @@ struct PoseSceneParams {
   int observations = 500;
   double outlier_fraction = 0.3;  ///< replaced by random pixels (and depths)
   double pixel_sigma = 1.0;
-  bool with_depth = true;          ///< all RGB-D (ur >= 0) or all monocular
+  bool with_depth = true;  ///< all RGB-D (ur >= 0) or all monocular
   double min_depth = 1.0, max_depth = 6.0;
   std::uint32_t seed = 1;
 };
@@ -39,19 +39,19 @@ PoseScene makePoseScene(const ProjectionModel& cam, const PoseSceneParams& p);
 struct BASceneParams {
   int keyframes = 10;
   int points = 500;
-  int observations = 4000;       ///< target total (each point seen by >= 2)
-  int fixed_keyframes = 2;       ///< the first ones: anchor gauge and scale
-  double depth_fraction = 0.8;   ///< observations with ur (RGB-D)
+  int observations = 4000;      ///< target total (each point seen by >= 2)
+  int fixed_keyframes = 2;      ///< the first ones: anchor gauge and scale
+  double depth_fraction = 0.8;  ///< observations with ur (RGB-D)
   double pixel_sigma = 1.0;
-  int gross_outliers = 0;        ///< observations moved by 20-60 px
+  int gross_outliers = 0;                             ///< observations moved by 20-60 px
   double pose_noise_m = 0.05, pose_noise_rad = 0.03;  ///< initial perturbation
   double point_noise_m = 0.05;
   std::uint32_t seed = 1;
 };
 
 struct BAScene {
-  BAProblem truth;    ///< true poses/points, noisy observations
-  BAProblem initial;  ///< same observations, perturbed free poses and points
+  BAProblem truth;               ///< true poses/points, noisy observations
+  BAProblem initial;             ///< same observations, perturbed free poses and points
   std::vector<bool> is_outlier;  ///< per observation
 };
 

@@ -25,9 +25,8 @@ void forSharedWords(const BowVector& a, const BowVector& b, Fn fn) {
 
 double l1Score(const BowVector& a, const BowVector& b) {
   double s = 0;
-  forSharedWords(a, b, [&](const BowEntry& x, const BowEntry& y) {
-    s += std::min(x.weight, y.weight);
-  });
+  forSharedWords(a, b,
+                 [&](const BowEntry& x, const BowEntry& y) { s += std::min(x.weight, y.weight); });
   return s;
 }
 

@@ -106,8 +106,10 @@ OrbVocabulary::OrbVocabulary(VocabularyTree tree) : tree_(std::move(tree)) {
 std::string OrbVocabulary::index() {
   const VocabularyTree& t = tree_;
   const std::size_t n = t.centres.size();
-  if (t.k < 2 || t.k > 255) return "branching factor k = " + std::to_string(t.k) + " is not in 2..255";
-  if (t.levels < 1 || t.levels > 64) return "depth L = " + std::to_string(t.levels) + " is not in 1..64";
+  if (t.k < 2 || t.k > 255)
+    return "branching factor k = " + std::to_string(t.k) + " is not in 2..255";
+  if (t.levels < 1 || t.levels > 64)
+    return "depth L = " + std::to_string(t.levels) + " is not in 1..64";
   if (t.child_count.size() != n)
     return std::to_string(n) + " centres but " + std::to_string(t.child_count.size()) +
            " child counts";
@@ -125,15 +127,18 @@ std::string OrbVocabulary::index() {
     if (c > static_cast<std::size_t>(t.k))
       return "node " + std::to_string(i) + " has " + std::to_string(c) + " children, more than k";
     if (next <= i || next + c > n)
-      return "the child counts do not describe a breadth-first tree (node " + std::to_string(i) + ")";
+      return "the child counts do not describe a breadth-first tree (node " + std::to_string(i) +
+             ")";
     if (depth[i] >= t.levels)
-      return "node " + std::to_string(i) + " has children below depth L = " + std::to_string(t.levels);
+      return "node " + std::to_string(i) +
+             " has children below depth L = " + std::to_string(t.levels);
     link_[i] = static_cast<uint32_t>(next);
     std::fill(depth.begin() + next, depth.begin() + next + c, static_cast<uint8_t>(depth[i] + 1));
     next += c;
   }
   if (next != n)
-    return "the child counts add up to " + std::to_string(next) + " nodes, not " + std::to_string(n);
+    return "the child counts add up to " + std::to_string(next) + " nodes, not " +
+           std::to_string(n);
   if (word != t.idf.size())
     return std::to_string(word) + " words but " + std::to_string(t.idf.size()) + " IDF weights";
   for (std::size_t w = 0; w < t.idf.size(); ++w)
@@ -146,7 +151,8 @@ uint64_t OrbVocabulary::checksum() const { return treeChecksum(tree_); }
 
 OrbVocabulary OrbVocabulary::load(const std::string& path) {
   std::unique_ptr<std::FILE, FileCloser> f(std::fopen(path.c_str(), "rb"));
-  if (!f) throw InputError(path, std::string("cannot open vocabulary (") + std::strerror(errno) + ")");
+  if (!f)
+    throw InputError(path, std::string("cannot open vocabulary (") + std::strerror(errno) + ")");
   struct stat st {};
   if (::fstat(::fileno(f.get()), &st) != 0 || !S_ISREG(st.st_mode))
     throw InputError(path, "cannot read vocabulary (not a regular file)");
@@ -154,8 +160,8 @@ OrbVocabulary OrbVocabulary::load(const std::string& path) {
 
   unsigned char h[kHeaderBytes];
   if (size < kHeaderBytes || std::fread(h, 1, kHeaderBytes, f.get()) != kHeaderBytes)
-    throw InputError(path, "truncated: " + std::to_string(size) +
-                               " bytes, shorter than the vocabulary header");
+    throw InputError(
+        path, "truncated: " + std::to_string(size) + " bytes, shorter than the vocabulary header");
   if (std::memcmp(h, kMagic, sizeof kMagic) != 0)
     throw InputError(path, "not a dynslam ORB vocabulary (bad magic; expected 'DYNSLVOC')");
   if (getField<uint32_t>(h, kOffByteOrder) != kByteOrderMark)
@@ -173,14 +179,14 @@ OrbVocabulary OrbVocabulary::load(const std::string& path) {
     throw InputError(path, "corrupt header (" + std::to_string(n_nodes) + " nodes, " +
                                std::to_string(n_words) + " words, note of " +
                                std::to_string(n_note) + " bytes)");
-  const uint64_t expected = kHeaderBytes + n_note + n_nodes * (sizeof(BinaryDescriptor) + 1) +
-                            n_words * sizeof(float);
+  const uint64_t expected =
+      kHeaderBytes + n_note + n_nodes * (sizeof(BinaryDescriptor) + 1) + n_words * sizeof(float);
   if (size < expected)
     throw InputError(path, "truncated: " + std::to_string(size) + " bytes, the header announces " +
                                std::to_string(expected));
   if (size > expected)
-    throw InputError(path, std::to_string(size - expected) +
-                               " unexpected bytes after the vocabulary (corrupt)");
+    throw InputError(
+        path, std::to_string(size - expected) + " unexpected bytes after the vocabulary (corrupt)");
 
   t.note.resize(n_note);
   t.centres.resize(n_nodes);
@@ -265,8 +271,8 @@ BowVector OrbVocabulary::transform(const cv::Mat& descriptors) const {
   return weighWords(words, tree_.idf);
 }
 
-void OrbVocabulary::transform(const cv::Mat& descriptors, BowVector& bow,
-                              FeatureVector& features, int feature_depth) const {
+void OrbVocabulary::transform(const cv::Mat& descriptors, BowVector& bow, FeatureVector& features,
+                              int feature_depth) const {
   if (feature_depth < 1 || feature_depth > levels())
     throw std::invalid_argument("feature depth " + std::to_string(feature_depth) +
                                 " is not in 1.." + std::to_string(levels()));
@@ -282,7 +288,8 @@ void OrbVocabulary::transform(const cv::Mat& descriptors, BowVector& bow,
   std::sort(by_node.begin(), by_node.end());
   features.clear();
   for (const auto& [node, idx] : by_node) {
-    if (features.empty() || features.back().first != node) features.emplace_back(node, std::vector<int>{});
+    if (features.empty() || features.back().first != node)
+      features.emplace_back(node, std::vector<int>{});
     features.back().second.push_back(idx);
   }
 }

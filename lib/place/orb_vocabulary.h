@@ -35,8 +35,8 @@ namespace dynslam {
 
 /// The tree as stored on disk and produced by training.
 struct VocabularyTree {
-  int k = 0;       ///< branching factor (max children per node), 2..255
-  int levels = 0;  ///< max depth of a word below the root
+  int k = 0;                              ///< branching factor (max children per node), 2..255
+  int levels = 0;                         ///< max depth of a word below the root
   std::vector<BinaryDescriptor> centres;  ///< per node, breadth-first; [0] = root (unused)
   std::vector<uint8_t> child_count;       ///< per node; 0 = a leaf, i.e. a word
   std::vector<float> idf;                 ///< per word (leaves in node order)

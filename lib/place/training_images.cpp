@@ -35,7 +35,8 @@ std::vector<std::string> folderImages(const std::string& dir) {
   std::vector<std::string> v;
   std::error_code ec;
   for (const auto& entry : fs::directory_iterator(dir, ec))
-    if (entry.is_regular_file() && hasImageExtension(entry.path())) v.push_back(entry.path().string());
+    if (entry.is_regular_file() && hasImageExtension(entry.path()))
+      v.push_back(entry.path().string());
   if (ec) throw InputError(dir, "cannot list folder (" + ec.message() + ")");
   std::sort(v.begin(), v.end());
   return v;
@@ -44,7 +45,8 @@ std::vector<std::string> folderImages(const std::string& dir) {
 }  // namespace
 
 std::vector<std::string> listTrainingImages(const std::vector<std::string>& inputs, int stride) {
-  if (stride < 1) throw std::invalid_argument("stride must be at least 1, got " + std::to_string(stride));
+  if (stride < 1)
+    throw std::invalid_argument("stride must be at least 1, got " + std::to_string(stride));
   std::vector<std::string> images;
   for (const std::string& in : inputs) {
     std::error_code ec;

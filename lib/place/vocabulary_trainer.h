@@ -29,7 +29,6 @@ using TrainingProgress = std::function<void(std::size_t done, std::size_t total)
 /// image boundaries matter for IDF). note: stored in the file (provenance).
 /// Throws std::invalid_argument on bad parameters or no descriptors.
 OrbVocabulary trainVocabulary(const std::vector<cv::Mat>& images, const VocabularyParams& params,
-                              const std::string& note = "",
-                              const TrainingProgress& progress = {});
+                              const std::string& note = "", const TrainingProgress& progress = {});
 
 }  // namespace dynslam

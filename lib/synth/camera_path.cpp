@@ -23,7 +23,8 @@ mrpt::poses::CPose3D CameraPath::pose(int i) const {
   const double yaw = phi + (p_.yaw_offset_deg + w * 8 * std::sin(3 * phi + 1)) * M_PI / 180;
   const double pitch = (p_.pitch_deg + w * 4 * std::sin(4 * phi + 2)) * M_PI / 180;
   // Optical axes in the room: forward by yaw/pitch, right horizontal, down.
-  const Eigen::Vector3d fwd(std::cos(pitch) * std::cos(yaw), std::cos(pitch) * std::sin(yaw), std::sin(pitch));
+  const Eigen::Vector3d fwd(std::cos(pitch) * std::cos(yaw), std::cos(pitch) * std::sin(yaw),
+                            std::sin(pitch));
   const Eigen::Vector3d right = fwd.cross(Eigen::Vector3d::UnitZ()).normalized();
   const Eigen::Vector3d down = fwd.cross(right);
   return frameFromAxes(c, right, down);  // z = right x down = forward

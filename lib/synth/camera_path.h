@@ -14,9 +14,9 @@ struct CameraPathParams {
   double fps = 30;
   double radius_x = 1.3, radius_y = 1.0;  ///< m
   double height = 1.3;                    ///< m above the floor
-  double yaw_offset_deg = 20;             ///< from looking straight out (towards the walking direction)
-  double pitch_deg = -8;                  ///< looking slightly down (negative)
-  double wobble = 1.0;                    ///< scale of the speed/height/yaw/pitch wobble (0: none)
+  double yaw_offset_deg = 20;  ///< from looking straight out (towards the walking direction)
+  double pitch_deg = -8;       ///< looking slightly down (negative)
+  double wobble = 1.0;         ///< scale of the speed/height/yaw/pitch wobble (0: none)
 };
 
 class CameraPath {

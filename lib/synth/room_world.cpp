@@ -35,8 +35,10 @@ void appendTiledPlane(double sx, double sy, double z, bool up, int tiles, Textur
   for (int i = 0; i < tiles; ++i)
     for (int j = 0; j < tiles; ++j) {
       TexturedQuad q;
-      const Eigen::Vector3d c(-sx / 2 + sx * (i + 0.5) / tiles, -sy / 2 + sy * (j + 0.5) / tiles, z);
-      q.pose = up ? frameFromAxes(c, {1, 0, 0}, {0, 1, 0}) : frameFromAxes(c, {1, 0, 0}, {0, -1, 0});
+      const Eigen::Vector3d c(-sx / 2 + sx * (i + 0.5) / tiles, -sy / 2 + sy * (j + 0.5) / tiles,
+                              z);
+      q.pose =
+          up ? frameFromAxes(c, {1, 0, 0}, {0, 1, 0}) : frameFromAxes(c, {1, 0, 0}, {0, -1, 0});
       q.width = sx / tiles;
       q.height = sy / tiles;
       q.texture = tex.next();
@@ -81,7 +83,8 @@ RoomWorld buildRoomWorld(const RoomParams& p, TextureSource& tex, unsigned seed)
     const double inset = 0.15 + 0.25 * u01(rng) + 0.5 * std::max(size.x(), size.y());
     const Eigen::Vector3d c((s - inset) * cx, (s - inset) * cy, 0);
     const mrpt::poses::CPose3D body(c.x(), c.y(), 0, a + 0.3 * (u01(rng) - 0.5), 0, 0);
-    appendBox(body, size, {tex.next(), tex.next(), tex.next(), tex.next(), tex.next()}, 0, w.statics);
+    appendBox(body, size, {tex.next(), tex.next(), tex.next(), tex.next(), tex.next()}, 0,
+              w.statics);
   }
   // Movers: person-sized boxes walking tangentially between the path and the walls.
   for (int k = 0; k < p.movers; ++k) {

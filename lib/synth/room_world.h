@@ -16,12 +16,13 @@ namespace dynslam::synth {
 class TextureSource;
 
 struct RoomParams {
-  double size_x = 7.0, size_y = 6.0, height = 2.8;  ///< m; the room spans +-size/2 around the origin, z in [0, height]
-  double panel_width = 1.8;                          ///< m; walls are split into panels of about this width
-  int boxes = 6;                                     ///< furniture along the walls
+  double size_x = 7.0, size_y = 6.0,
+         height = 2.8;       ///< m; the room spans +-size/2 around the origin, z in [0, height]
+  double panel_width = 1.8;  ///< m; walls are split into panels of about this width
+  int boxes = 6;             ///< furniture along the walls
   int movers = 0;
-  double mover_speed = 0.6;  ///< m/s along its segment
-  double mover_travel = 1.6; ///< m, segment length
+  double mover_speed = 0.6;   ///< m/s along its segment
+  double mover_travel = 1.6;  ///< m, segment length
 };
 
 /// A mover: a box of `size` whose base centre oscillates between a and b.
@@ -45,8 +46,8 @@ struct RoomWorld {
   /// too with movers = true) at pixel (u, v) of the pinhole camera (fx, fy,
   /// cx, cy) at camera_wc at time t; 0 when the ray hits nothing.
   /// Independent of OpenGL: a ray cast.
-  double rayDepth(const mrpt::poses::CPose3D& camera_wc, double fx, double fy, double cx,
-                  double cy, double u, double v, double t, bool movers = true) const;
+  double rayDepth(const mrpt::poses::CPose3D& camera_wc, double fx, double fy, double cx, double cy,
+                  double u, double v, double t, bool movers = true) const;
 };
 
 /// Builds the room. Textures come from `textures`, boxes and movers are

@@ -26,17 +26,18 @@ struct SyntheticSequenceParams {
   CameraPathParams path;
   DepthNoiseParams depth;
   double rgb_noise = 2.0;  ///< grey levels, Gaussian per pixel (0: none)
-  std::string shared_dir;  ///< ../shared (textures); empty: $DYNSLAM_SHARED_DIR or ../shared of the source tree
+  std::string shared_dir;  ///< ../shared (textures); empty: $DYNSLAM_SHARED_DIR or ../shared of the
+                           ///< source tree
 };
 
 struct SyntheticFrame {
   int index = 0;
-  double timestamp = 0;         ///< s (also the depth's)
-  cv::Mat rgb;                  ///< CV_8UC3 BGR
-  cv::Mat depth;                ///< CV_16U, camera().depth_scale per metre
-  cv::Mat depth_true;           ///< CV_32F metres, before noise
-  cv::Mat mask;                 ///< CV_8U 0 static / k mover k; empty without movers
-  mrpt::poses::CPose3D pose_wc; ///< true camera-to-world pose (room frame)
+  double timestamp = 0;          ///< s (also the depth's)
+  cv::Mat rgb;                   ///< CV_8UC3 BGR
+  cv::Mat depth;                 ///< CV_16U, camera().depth_scale per metre
+  cv::Mat depth_true;            ///< CV_32F metres, before noise
+  cv::Mat mask;                  ///< CV_8U 0 static / k mover k; empty without movers
+  mrpt::poses::CPose3D pose_wc;  ///< true camera-to-world pose (room frame)
 };
 
 class SyntheticSequence {

@@ -64,8 +64,10 @@ TextureLibrary::TextureLibrary(const std::string& shared_dir, unsigned seed, int
     cv::Mat im = cv::imread(f, cv::IMREAD_COLOR);
     if (!im.empty()) rpy.emplace_back(sharpness(im), im);
   }
-  std::stable_sort(rpy.begin(), rpy.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
-  for (int i = 0; i < rpy_frames && i < static_cast<int>(rpy.size()); ++i) photos_.push_back(rpy[i].second);
+  std::stable_sort(rpy.begin(), rpy.end(),
+                   [](const auto& a, const auto& b) { return a.first > b.first; });
+  for (int i = 0; i < rpy_frames && i < static_cast<int>(rpy.size()); ++i)
+    photos_.push_back(rpy[i].second);
   if (photos_.empty()) throw std::runtime_error("synth: no texture photos under " + data.string());
   for (cv::Mat& im : photos_) {
     const double s = std::min(1.0, double(max_side) / std::max(im.cols, im.rows));

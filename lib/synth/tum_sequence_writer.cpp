@@ -68,8 +68,10 @@ int writeTumSequence(SyntheticSequence& seq, const std::string& out_dir,
   }
   rgb_txt.close();
   depth_txt.close();
-  if (!rgb_txt || !depth_txt) throw std::runtime_error("synth: cannot write the image lists in " + dir);
-  writeTumTrajectory(dir + "/groundtruth.txt", truth, "synthetic sequence, true camera-to-world poses");
+  if (!rgb_txt || !depth_txt)
+    throw std::runtime_error("synth: cannot write the image lists in " + dir);
+  writeTumTrajectory(dir + "/groundtruth.txt", truth,
+                     "synthetic sequence, true camera-to-world poses");
   writeCameraYaml(seq, dir + "/camera.yaml");
   folder.commit();
   return n;

@@ -19,7 +19,8 @@ constexpr double kGlPixelShiftX = 0.5, kGlPixelShiftY = 0.5;
 std::shared_ptr<mrpt::opengl::CSetOfObjects> objectsOf(const std::vector<TexturedQuad>& quads) {
   auto set = mrpt::opengl::CSetOfObjects::Create();
   for (const TexturedQuad& q : quads) {
-    auto plane = mrpt::opengl::CTexturedPlane::Create(-q.width / 2, q.width / 2, -q.height / 2, q.height / 2);
+    auto plane = mrpt::opengl::CTexturedPlane::Create(-q.width / 2, q.width / 2, -q.height / 2,
+                                                      q.height / 2);
     cv::Mat upright;  // image row 0 at the quad's top (local +y)
     cv::flip(q.texture, upright, 0);
     plane->assignImage(mrpt::img::CImage(upright, mrpt::img::DEEP_COPY));
@@ -41,7 +42,8 @@ cv::Mat toCv(const mrpt::math::CMatrixFloat& d) {
 
 WorldRenderer::WorldRenderer(const RoomWorld& world, const PinholeCamera& camera)
     : world_(world), camera_(camera) {
-  if (camera.hasDistortion()) throw std::invalid_argument("synth: the render camera has no distortion");
+  if (camera.hasDistortion())
+    throw std::invalid_argument("synth: the render camera has no distortion");
   context_ = std::make_unique<OffscreenContext>(camera.width, camera.height);
   mrpt::opengl::CFBORender::Parameters p(camera.width, camera.height);
   p.create_EGL_context = false;  // render into the OSMesa context made current above
@@ -105,7 +107,8 @@ RenderedView WorldRenderer::render(const mrpt::poses::CPose3D& camera_wc, double
     for (int r = 0; r < dk.rows; ++r)
       for (int c = 0; c < dk.cols; ++c) {
         const float a = dk.at<float>(r, c), b = v.depth.at<float>(r, c);
-        if (a > 0 && std::abs(a - b) <= 1e-3f * b + 1e-4f) v.mask.at<uint8_t>(r, c) = static_cast<uint8_t>(k + 1);
+        if (a > 0 && std::abs(a - b) <= 1e-3f * b + 1e-4f)
+          v.mask.at<uint8_t>(r, c) = static_cast<uint8_t>(k + 1);
       }
   }
   statics_->setVisibility(true);

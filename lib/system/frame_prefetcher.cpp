@@ -14,8 +14,7 @@ std::pair<RGBDFrame, double> timedLoad(const FrameSource& s, std::size_t i) {
 }
 }  // namespace
 
-FramePrefetcher::FramePrefetcher(const FrameSource& source, std::size_t count,
-                                 std::size_t depth)
+FramePrefetcher::FramePrefetcher(const FrameSource& source, std::size_t count, std::size_t depth)
     : source_(source), count_(count), depth_(depth) {
   if (depth_ > 0) thread_ = std::thread([this] { run(); });
 }

@@ -42,7 +42,8 @@ RunSummary runSlam(const RunOptions& opt) {
     throw std::invalid_argument("localisation needs a map (--map MAP.dsm)");
   if (opt.localize && opt.save_map)
     throw std::invalid_argument("--save-map with --localize: localisation does not change the map");
-  const std::string config_path = opt.config_path.empty() ? defaultSlamConfigPath() : opt.config_path;
+  const std::string config_path =
+      opt.config_path.empty() ? defaultSlamConfigPath() : opt.config_path;
   const SlamConfig loaded_cfg = loadSlamConfig(config_path);
   const std::string config_used = slamConfigYaml(loaded_cfg);  // before the mode's derived changes
   const SlamConfig cfg = configForMode(loaded_cfg, opt.mode);
@@ -73,7 +74,8 @@ RunSummary runSlam(const RunOptions& opt) {
   // Composite sequences (make_dynamic_sequence.py) carry the true moving
   // pixels in INPUT/masks/<rgb name>.png: score the flags against them.
   std::optional<KeypointTruthScorer> truth = KeypointTruthScorer::forSequence(opt.input);
-  FramePrefetcher frames(*source, n, static_cast<std::size_t>(std::max(0, cfg.system.prefetch_frames)));
+  FramePrefetcher frames(*source, n,
+                         static_cast<std::size_t>(std::max(0, cfg.system.prefetch_frames)));
   ProgressLine progress("frame", n);
   const auto t0 = SteadyClock::now();
   int interrupted_by = 0;
@@ -152,10 +154,9 @@ RunSummary runSlam(const RunOptions& opt) {
   info.frames = n;
   writeRunInfo(layout.runInfo(), info);
 
-  const std::string report = runReportJson({opt, config_path, source->camera().name,
-                                            config_used, sum, record, slam,
-                                            source->notes(), filter.get(), truth ? &*truth : nullptr,
-                                            opt.map_path.empty() ? nullptr : &loaded});
+  const std::string report = runReportJson(
+      {opt, config_path, source->camera().name, config_used, sum, record, slam, source->notes(),
+       filter.get(), truth ? &*truth : nullptr, opt.map_path.empty() ? nullptr : &loaded});
   writeFileAtomically(layout.report(), [&](std::ostream& os) { os << report; });
   staged.commit();
   return sum;

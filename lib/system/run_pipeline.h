@@ -30,16 +30,16 @@
 namespace dynslam {
 
 struct RunOptions {
-  std::string input;          ///< TUM folder or .rawlog
+  std::string input;  ///< TUM folder or .rawlog
   std::string out_dir;
   std::string config_path;    ///< empty: configs/dynslam.yaml
   std::string camera_config;  ///< empty: from the sequence
   std::string sensor;         ///< rawlog 3D sensor label; empty: its only one
   DynamicMode mode = DynamicMode::kDetectAndFlow;
-  std::size_t max_frames = 0; ///< 0: all
-  std::string map_path;       ///< a saved map to start in (empty: a new map)
-  bool localize = false;      ///< with map_path: track only, the map unchanged
-  bool save_map = false;      ///< write OUT/map.dsm
+  std::size_t max_frames = 0;  ///< 0: all
+  std::string map_path;        ///< a saved map to start in (empty: a new map)
+  bool localize = false;       ///< with map_path: track only, the map unchanged
+  bool save_map = false;       ///< write OUT/map.dsm
 };
 
 struct RunSummary {

@@ -46,9 +46,13 @@ void RunRecorder::writeKeyFrameMasks(const RunLayout& layout) const {
   for (const auto& [t, mask] : keyframe_masks_) {
     std::vector<uint8_t> png;
     cv::imencode(".png", mask, png);
-    writeFileAtomically(layout.dynamicMask(t), [&](std::ostream& os) {
-      os.write(reinterpret_cast<const char*>(png.data()), static_cast<std::streamsize>(png.size()));
-    }, true);
+    writeFileAtomically(
+        layout.dynamicMask(t),
+        [&](std::ostream& os) {
+          os.write(reinterpret_cast<const char*>(png.data()),
+                   static_cast<std::streamsize>(png.size()));
+        },
+        true);
   }
 }
 

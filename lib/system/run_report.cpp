@@ -52,7 +52,8 @@ std::string runReportJson(const RunReportInputs& in) {
       .value("tracked_frames", in.record.tracked())
       .value("lost_frames", in.record.lost())
       .value("first_lost_frame", static_cast<int64_t>(in.record.firstLost()))
-      .value("tracked_fraction", in.summary.frames ? double(in.record.tracked()) / in.summary.frames : 0.0)
+      .value("tracked_fraction",
+             in.summary.frames ? double(in.record.tracked()) / in.summary.frames : 0.0)
       .value("keyframes", in.summary.keyframes)
       .value("map_points", in.summary.map_points)
       .value("wall_time_s", in.summary.wall_s)
@@ -99,7 +100,8 @@ std::string runReportJson(const RunReportInputs& in) {
   if (in.truth) in.truth->writeJson(w);
   w.beginObject("timing_ms");
   writeStats(w, "read_frame", in.record.readMs());
-  for (const auto& stage : in.slam.times().stages()) writeStats(w, stage, in.slam.times().samples(stage));
+  for (const auto& stage : in.slam.times().stages())
+    writeStats(w, stage, in.slam.times().samples(stage));
   w.endObject();
   const LocalMapper::Stats ms = in.slam.mapperStats();
   w.beginObject("local_mapping")
@@ -114,7 +116,10 @@ std::string runReportJson(const RunReportInputs& in) {
   w.value("relocalisation_count", in.slam.relocalisations().size());
   w.beginArray("relocalisations");
   for (const auto& r : in.slam.relocalisations())
-    w.beginObject().value("frame", r.frame_index).value("keyframe", static_cast<int64_t>(r.keyframe_id)).endObject();
+    w.beginObject()
+        .value("frame", r.frame_index)
+        .value("keyframe", static_cast<int64_t>(r.keyframe_id))
+        .endObject();
   w.endArray();
   const loop::LoopClosingStats ls = in.slam.loopStats();
   w.beginObject("loop_closing")
@@ -126,7 +131,10 @@ std::string runReportJson(const RunReportInputs& in) {
       .value("relocalisation_queries", ls.relocalisation_queries);
   w.beginArray("loops");
   for (const auto& [cur, lp] : ls.loops)
-    w.beginObject().value("keyframe", static_cast<int64_t>(cur)).value("loop_keyframe", static_cast<int64_t>(lp)).endObject();
+    w.beginObject()
+        .value("keyframe", static_cast<int64_t>(cur))
+        .value("loop_keyframe", static_cast<int64_t>(lp))
+        .endObject();
   w.endArray();
   writeStats(w, "detect_ms", ls.detect_ms);
   writeStats(w, "correct_ms", ls.correct_ms);

@@ -159,7 +159,8 @@ void forEachSlamConfigSection(Config& c, F&& f) {
   f("tracker", [&](auto&& g) { forEachTrackerOption(c.tracker, g); });
   f("pose_optimizer", [&](auto&& g) { forEachPoseOptimizerOption(c.pose_optimizer, g); });
   f("local_mapper", [&](auto&& g) { forEachLocalMapperOption(c.mapper, g); });
-  f("local_mapper.bundle_adjustment", [&](auto&& g) { forEachBundleAdjustmentOption(c.mapper.ba, g); });
+  f("local_mapper.bundle_adjustment",
+    [&](auto&& g) { forEachBundleAdjustmentOption(c.mapper.ba, g); });
   f("dynamic", [&](auto&& g) { forEachDynamicOption(c.dynamic, g); });
   f("dynamic.detector", [&](auto&& g) { forEachDetectorOption(c.dynamic, g); });
   f("dynamic.box_mask", [&](auto&& g) { forEachBoxMaskOption(c.dynamic.box_mask, g); });

@@ -70,8 +70,10 @@ void SlamSystem::saveMap(const std::string& path) const {
 
 FrameOutcome SlamSystem::process(const RGBDFrame& frame) {
   const auto t0 = Clock::now();
-  if (frame.rgb.channels() == 3) cv::cvtColor(frame.rgb, gray_, cv::COLOR_BGR2GRAY);
-  else gray_ = frame.rgb;
+  if (frame.rgb.channels() == 3)
+    cv::cvtColor(frame.rgb, gray_, cv::COLOR_BGR2GRAY);
+  else
+    gray_ = frame.rgb;
   auto feats = std::make_shared<FeatureSet>();
   feats->ctx = ctx_;
   // The preprocessor's expected movers first, so that the extractor spends

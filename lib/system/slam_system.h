@@ -11,9 +11,9 @@
 #include "core/stats.h"
 #include "core/trajectory.h"
 #include "features/orb_extractor.h"
+#include "loop/loop_closing.h"
 #include "map/map.h"
 #include "mapio/map_file.h"
-#include "loop/loop_closing.h"
 #include "mapping/local_mapper.h"
 #include "mapping/map_ba_problem.h"
 #include "system/system_config.h"
@@ -64,9 +64,13 @@ class SlamSystem {
   const StageTimes& times() const { return times_; }
   LocalMapper::Stats mapperStats() const { return mapper_->stats(); }
   /// Empty stats when loop closing is disabled.
-  loop::LoopClosingStats loopStats() const { return loop_ ? loop_->stats() : loop::LoopClosingStats{}; }
+  loop::LoopClosingStats loopStats() const {
+    return loop_ ? loop_->stats() : loop::LoopClosingStats{};
+  }
   const FrameContext& context() const { return *ctx_; }
-  const std::vector<Tracker::Relocalisation>& relocalisations() const { return tracker_->relocalisations(); }
+  const std::vector<Tracker::Relocalisation>& relocalisations() const {
+    return tracker_->relocalisations();
+  }
   std::size_t culledDynamicPoints() const { return tracker_->culledDynamicPoints(); }
 
  private:

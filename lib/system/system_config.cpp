@@ -24,10 +24,11 @@ void validateSlamConfig(const SlamConfig& c, const std::string& path) {
   // asserts on an empty one), and the per-level budgets must stay allocatable.
   if (c.orb.n_features > 100000 || c.orb.n_levels > 32 || c.orb.scale_factor > 2.0f ||
       std::pow(double(c.orb.scale_factor), c.orb.n_levels - 1) > 8.0)
-    throw InputError(path, "orb: n_features <= 100000, n_levels <= 32, scale_factor <= 2 and "
-                           "scale_factor^(n_levels-1) <= 8 required (got n_levels " +
-                               std::to_string(c.orb.n_levels) + ", scale_factor " +
-                               std::to_string(c.orb.scale_factor) + ")");
+    throw InputError(path,
+                     "orb: n_features <= 100000, n_levels <= 32, scale_factor <= 2 and "
+                     "scale_factor^(n_levels-1) <= 8 required (got n_levels " +
+                         std::to_string(c.orb.n_levels) + ", scale_factor " +
+                         std::to_string(c.orb.scale_factor) + ")");
   if (c.orb.ini_fast_threshold < 1 || c.orb.ini_fast_threshold > 255 ||
       c.orb.min_fast_threshold < 1 || c.orb.min_fast_threshold > 255)
     throw InputError(path, "orb: ini_fast_threshold and min_fast_threshold must be in 1..255");
@@ -35,10 +36,11 @@ void validateSlamConfig(const SlamConfig& c, const std::string& path) {
   const DynamicFilterParams& d = c.dynamic;
   if (d.orb_features != 0 && d.orb_features < 50)
     throw InputError(path, "dynamic: orb_features must be 0 (keep orb.n_features) or >= 50");
-  if (d.mask_margin_px < 0 || d.max_flow_points < 0 || d.carry_frames < 0 ||
-      d.carry_frames > 255 || !(d.max_map_inliers_flagged > 0) || d.max_map_inliers_flagged > 1)
-    throw InputError(path, "dynamic: mask_margin_px, max_flow_points >= 0, "
-                           "0 <= carry_frames <= 255, 0 < max_map_inliers_flagged <= 1 required");
+  if (d.mask_margin_px < 0 || d.max_flow_points < 0 || d.carry_frames < 0 || d.carry_frames > 255 ||
+      !(d.max_map_inliers_flagged > 0) || d.max_map_inliers_flagged > 1)
+    throw InputError(path,
+                     "dynamic: mask_margin_px, max_flow_points >= 0, "
+                     "0 <= carry_frames <= 255, 0 < max_map_inliers_flagged <= 1 required");
   if (d.detector_interval < 1)
     throw InputError(path, "dynamic.detector: interval_frames >= 1 required");
   if (c.mapper.ba_lag_frames < 1)
@@ -53,10 +55,11 @@ void validateSlamConfig(const SlamConfig& c, const std::string& path) {
       !(mc.known_motion_gate_px > 0) || !(mc.region_min_dynamic_ratio >= 0) ||
       mc.region_min_dynamic_ratio > 1 || !(mc.max_seed_distance_px >= 0) ||
       !(mc.grow.step_tolerance > 0) || !(mc.grow.max_depth_offset_m > 0))
-    throw InputError(path, "dynamic.motion_check: epipolar_threshold_px, "
-                           "reprojection_threshold_px, known_motion_gate_px > 0, "
-                           "0 <= region_min_dynamic_ratio <= 1, max_seed_distance_px >= 0, "
-                           "region_grow step_tolerance, max_depth_offset_m > 0 required");
+    throw InputError(path,
+                     "dynamic.motion_check: epipolar_threshold_px, "
+                     "reprojection_threshold_px, known_motion_gate_px > 0, "
+                     "0 <= region_min_dynamic_ratio <= 1, max_seed_distance_px >= 0, "
+                     "region_grow step_tolerance, max_depth_offset_m > 0 required");
   validateDenseMapOptions(c.map_export, path);
   validateOccupancyOptions(c.occupancy_map, path);
 }

@@ -91,13 +91,15 @@ TrackResult Tracker::finishFrame(bool flags_changed) {
       if (cur_.points[i] && cur_.points[i]->nObs() == 0 && !cur_.points[i]->ref_kf)
         cur_.points[i] = nullptr;
   }
-  logf(LogLevel::kTrace, "track", "frame %zu state %d inliers %d local_kfs %zu local_pts %zu kf %d map_kfs %zu",
-                 cur_.index, static_cast<int>(state_), inliers_, local_kfs_.size(), local_points_.size(),
-                 res.new_keyframe ? 1 : 0, map_.keyFrameCount());
+  logf(LogLevel::kTrace, "track",
+       "frame %zu state %d inliers %d local_kfs %zu local_pts %zu kf %d map_kfs %zu", cur_.index,
+       static_cast<int>(state_), inliers_, local_kfs_.size(), local_points_.size(),
+       res.new_keyframe ? 1 : 0, map_.keyFrameCount());
   res.inliers = inliers_;
   if (res.has_pose) {
     if (!cur_.ref_kf) cur_.ref_kf = ref_kf_;
-    records_.push_back({cur_.index, cur_.timestamp, cur_.ref_kf, cur_.pose.wc() - cur_.ref_kf->worldPose()});
+    records_.push_back(
+        {cur_.index, cur_.timestamp, cur_.ref_kf, cur_.pose.wc() - cur_.ref_kf->worldPose()});
   }
   return res;
 }
@@ -277,14 +279,15 @@ bool Tracker::relocalize() {
     for (std::size_t i = 0; i < cur_.points.size(); ++i) {
       if (!cur_.points[i]) continue;
       const Eigen::Vector3d& p = cur_.points[i]->pos;
-      object.emplace_back(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z()));
+      object.emplace_back(static_cast<float>(p.x()), static_cast<float>(p.y()),
+                          static_cast<float>(p.z()));
       image.push_back(f.keys_un[i].pt);
       idx.push_back(static_cast<int>(i));
     }
     cv::Mat rvec, tvec;
     std::vector<int> inliers;
-    if (!cv::solvePnPRansac(object, image, f.ctx->K, cv::Mat(), rvec, tvec, false, 100, 4.0f,
-                            0.99, inliers, cv::SOLVEPNP_EPNP) ||
+    if (!cv::solvePnPRansac(object, image, f.ctx->K, cv::Mat(), rvec, tvec, false, 100, 4.0f, 0.99,
+                            inliers, cv::SOLVEPNP_EPNP) ||
         static_cast<int>(inliers.size()) < p_.reloc_min_inliers)
       continue;
     // PnP gives world -> camera; keep only its inliers for the refinement.
@@ -303,7 +306,9 @@ bool Tracker::relocalize() {
       if (!keep[i]) cur_.points[i] = nullptr;
     optimizeCurrentPose();
     const int good = discardOutliers(cur_);
-    logf(LogLevel::kDebug, "track", "relocalisation on keyframe %ld: %d matches, %zu PnP inliers, %d after optimisation", kf->id, n, inliers.size(), good);
+    logf(LogLevel::kDebug, "track",
+         "relocalisation on keyframe %ld: %d matches, %zu PnP inliers, %d after optimisation",
+         kf->id, n, inliers.size(), good);
     if (good >= p_.reloc_min_inliers) {
       ref_kf_ = kf;
       cur_.ref_kf = kf;
@@ -361,7 +366,8 @@ void Tracker::updateLocalMap() {
     kf->local_for_frame = cur_.id;
   }
   const std::size_t direct = local_kfs_.size();
-  for (std::size_t k = 0; k < direct && local_kfs_.size() < static_cast<std::size_t>(p_.max_local_keyframes); ++k) {
+  for (std::size_t k = 0;
+       k < direct && local_kfs_.size() < static_cast<std::size_t>(p_.max_local_keyframes); ++k) {
     KeyFrame* kf = local_kfs_[k];
     auto add = [&](KeyFrame* n) {
       if (n && !n->bad && n->local_for_frame != cur_.id) {
@@ -408,7 +414,8 @@ void Tracker::searchLocalPoints() {
     }
   }
   int found = 0;
-  if (to_match > 0) found = matcher_.searchByProjection(cur_, local_points_, p_.local_search_radius);
+  if (to_match > 0)
+    found = matcher_.searchByProjection(cur_, local_points_, p_.local_search_radius);
   if (p_.cull_dynamic_hits > 0 && !frozen_) cullPointsOnDynamicKeypoints();
   logf(LogLevel::kTrace, "track", "local map: %d in view, %d new matches", to_match, found);
 }
@@ -471,9 +478,12 @@ bool Tracker::needNewKeyFrame() const {
   const FeatureSet& f = cur_.f();
   int close_tracked = 0, close_untracked = 0;
   for (std::size_t i = 0; i < f.size(); ++i) {
-    if (f.dynamic[i] || f.isUnjudged(i) || f.depth[i] <= 0 || f.depth[i] >= f.ctx->close_depth) continue;
-    if (isMapInlier(i)) ++close_tracked;
-    else ++close_untracked;
+    if (f.dynamic[i] || f.isUnjudged(i) || f.depth[i] <= 0 || f.depth[i] >= f.ctx->close_depth)
+      continue;
+    if (isMapInlier(i))
+      ++close_tracked;
+    else
+      ++close_untracked;
   }
   const bool need_close =
       close_tracked < p_.kf_close_tracked_max && close_untracked > p_.kf_close_untracked_min;
@@ -486,8 +496,9 @@ bool Tracker::needNewKeyFrame() const {
   const bool c1b = cur_.id >= last_kf_frame_id_ + spacing;
   const bool c1c = inliers_ < ref_matches * 0.25 || need_close;
   const bool c2 = (inliers_ < ref_matches * ratio || need_close) && inliers_ > 15;
-  logf(LogLevel::kTrace, "track", "kf decision: inliers %d ref_matches %d close %d/%d c1a %d c1b %d c1c %d c2 %d",
-                 inliers_, ref_matches, close_tracked, close_untracked, c1a, c1b, c1c, c2);
+  logf(LogLevel::kTrace, "track",
+       "kf decision: inliers %d ref_matches %d close %d/%d c1a %d c1b %d c1c %d c2 %d", inliers_,
+       ref_matches, close_tracked, close_untracked, c1a, c1b, c1c, c2);
   return (c1a || c1b || c1c) && c2;
 }
 

@@ -24,21 +24,21 @@ struct TrackerParams {
   int min_inliers_motion = 10;        ///< to accept the motion-model pose
   int min_inliers_local = 30;         ///< to accept the frame as tracked
   int max_local_keyframes = 80;
-  int max_frames_between_kf = 30;     ///< a keyframe at least this often (frames)
+  int max_frames_between_kf = 30;  ///< a keyframe at least this often (frames)
   /// ...and, once tracking weakens, at most this often, unless very weak
   /// (a fixed rule, not "when the mapper is idle", so that runs repeat);
   /// a young map less: one frame per 4 keyframes in the map, up to this.
   int min_frames_between_kf = 5;
-  double kf_ref_ratio = 0.75;         ///< new keyframe when tracked < ratio x reference's points
-  int kf_close_tracked_max = 100;     ///< ...or when few close points are tracked
-  int kf_close_untracked_min = 70;    ///< ...and many close points are not
-  int kf_min_new_points = 100;        ///< map points a new keyframe creates from depth, at least
+  double kf_ref_ratio = 0.75;       ///< new keyframe when tracked < ratio x reference's points
+  int kf_close_tracked_max = 100;   ///< ...or when few close points are tracked
+  int kf_close_untracked_min = 70;  ///< ...and many close points are not
+  int kf_min_new_points = 100;      ///< map points a new keyframe creates from depth, at least
   /// A map point that matches a keypoint flagged dynamic (descriptor within
   /// 50 bits, near its projection) in this many frames, and in at least as
   /// many as it was tracked in, is culled: it sits on something that moves
   /// (a walker keypoint the filter missed once). 0 = off.
   int cull_dynamic_hits = 2;
-  int init_min_points = 500;          ///< keypoints with depth to initialise
+  int init_min_points = 500;  ///< keypoints with depth to initialise
   /// Temporary visual-odometry points from the last frame's depth for the
   /// motion model. Off by default: they chain each pose to the previous
   /// estimate (drift) instead of the map; useful for map-less tracking only.

@@ -47,8 +47,8 @@ TEST(BenchStats, SpreadIsMedianMinMaxOfFiniteValues) {
 }
 
 TEST(BenchStats, ImprovementIsPaperEta) {
-  EXPECT_DOUBLE_EQ(improvement(0.5, 0.1), 0.8);    // (0.5 - 0.1) / 0.5
-  EXPECT_DOUBLE_EQ(improvement(0.2, 0.3), -0.5);   // worse than off
+  EXPECT_DOUBLE_EQ(improvement(0.5, 0.1), 0.8);   // (0.5 - 0.1) / 0.5
+  EXPECT_DOUBLE_EQ(improvement(0.2, 0.3), -0.5);  // worse than off
   EXPECT_TRUE(std::isnan(improvement(0.0, 0.1)));
   EXPECT_TRUE(std::isnan(improvement(kNaN, 0.1)));
 }
@@ -154,7 +154,8 @@ TEST(BenchReport, IdenticalRunsAreSaidToBe) {
   const BenchReport same(res);
   EXPECT_TRUE(same.summaries()[0].identical_outputs);
   EXPECT_FALSE(same.summaries()[1].identical_outputs);
-  EXPECT_NE(same.markdown().find("| off | 3/3, identical | 0.5000 [0.4000–0.6000] |"), std::string::npos)
+  EXPECT_NE(same.markdown().find("| off | 3/3, identical | 0.5000 [0.4000–0.6000] |"),
+            std::string::npos)
       << same.markdown();
   EXPECT_NE(same.markdown().find("| detect+flow | 2/3 | "), std::string::npos);
   EXPECT_NE(same.json().find("\"identical_outputs\": true"), std::string::npos);
@@ -189,13 +190,18 @@ std::string writeFakeDynslam(const TempDir& dir, const std::string& trajectory) 
                   "out=\"$4\"; mode=\"$6\"\n"
                   "if [ \"$mode\" = flow ]; then echo 'simulated failure' >&2; exit 3; fi\n"
                   "mkdir -p \"$out\"\n"  // as the real run: it makes its folder
-                  "cp '" + trajectory + "' \"$out/trajectory.txt\"\n"
-                  "printf '{\\n  \"fps\": 12.5,\\n  \"peak_rss_mb\": 1,\\n  \"keyframes\": 7,\\n  \"map_points\": 321,\\n  "
-                  "\"relocalisation_count\": 2,\\n  \"loop_closing\": {\\n    \"loops_closed\": 1\\n  },\\n  \"mask_scores\": {\\n    "
-                  "\"recall\": 0.9,\\n    \"false_rejection_rate\": 0.08,\\n    "
-                  "\"false_rejection_rate_outside_unmasked_person_boxes\": 0.05,\\n    "
-                  "\"standing_rejection_rate\": 0.5\\n  }\\n}\\n' > \"$out/report.json\"\n"
-                  "printf '# t track total\\n1.0 2.0 4.0\\n2.0 3.0 nan\\n3.0 1.0 8.0\\n' > \"$out/frame_times.txt\"\n");
+                  "cp '" +
+                      trajectory +
+                      "' \"$out/trajectory.txt\"\n"
+                      "printf '{\\n  \"fps\": 12.5,\\n  \"peak_rss_mb\": 1,\\n  \"keyframes\": "
+                      "7,\\n  \"map_points\": 321,\\n  "
+                      "\"relocalisation_count\": 2,\\n  \"loop_closing\": {\\n    "
+                      "\"loops_closed\": 1\\n  },\\n  \"mask_scores\": {\\n    "
+                      "\"recall\": 0.9,\\n    \"false_rejection_rate\": 0.08,\\n    "
+                      "\"false_rejection_rate_outside_unmasked_person_boxes\": 0.05,\\n    "
+                      "\"standing_rejection_rate\": 0.5\\n  }\\n}\\n' > \"$out/report.json\"\n"
+                      "printf '# t track total\\n1.0 2.0 4.0\\n2.0 3.0 nan\\n3.0 1.0 8.0\\n' > "
+                      "\"$out/frame_times.txt\"\n");
   ::chmod(path.c_str(), 0755);
   return path;
 }
@@ -248,9 +254,9 @@ TEST(BenchRunner, NumbersAreThoseOfDynslamEval) {
   EXPECT_NE(md.find("| off | 7 | 321 | 2 | 1 |"), std::string::npos) << md;
 
   const std::string report = BenchReport(res).json();
-  const test::CommandResult eval = test::runDynslam(
-      {"eval", sequenceGroundtruthPath(test::rpyDir()), ok.dir + "/trajectory.txt", "--seq",
-       test::rpyDir(), "--json"});
+  const test::CommandResult eval =
+      test::runDynslam({"eval", sequenceGroundtruthPath(test::rpyDir()), ok.dir + "/trajectory.txt",
+                        "--seq", test::rpyDir(), "--json"});
   ASSERT_EQ(eval.exit_code, 0) << eval.output;
   for (const char* key : {"rmse", "std", "median", "max"})
     EXPECT_EQ(textIn(report, "ate", key), textIn(eval.output, "ate", key)) << key;
@@ -405,7 +411,9 @@ TEST(BenchCli, EndToEndOnFr1RpyWritesBothReports) {
   const std::string run = tmp / "b/rgbd_dataset_freiburg1_rpy/off/run1";
   EXPECT_EQ(readFrameTimes(run + "/frame_times.txt").frame_ms.size(), 40u);
   for (const char* png : {"trajectory_top.png", "trajectory_xyz.png", "frame_times.png"})
-    EXPECT_TRUE(std::filesystem::exists(tmp / ("b/rgbd_dataset_freiburg1_rpy/off/" + std::string(png)))) << png;
+    EXPECT_TRUE(
+        std::filesystem::exists(tmp / ("b/rgbd_dataset_freiburg1_rpy/off/" + std::string(png))))
+        << png;
 }
 
 // report.json has the same key at several depths ("keyframes" at the top and

@@ -29,19 +29,20 @@ namespace fs = std::filesystem;
 /// poses at the RGB timestamps, shifted by the run number in mm).
 std::string writeFakeDynslam(const TempDir& dir) {
   const std::string path = dir / "fake_dynslam";
-  test::writeText(path,
-                  "#!/bin/sh\n"
-                  "# args: run SEQ -o DIR --mode MODE ...\n"
-                  "out=\"$4\"; mode=\"$6\"\n"
-                  "mkdir -p \"$out\"\n"
-                  "run=$(basename \"$out\" | tr -d run)\n"
-                  "awk -v r=\"$run\" '!/^#/ && n < 200 { n++; printf \"%s %.4f %s %s %s %s %s %s\\n\", "
-                  "$1, $2 + r * 0.001, $3, $4, $5, $6, $7, $8 }' \"$2/groundtruth.txt\" > "
-                  "\"$out/trajectory.txt\"\n"
-                  "printf '{\\n  \"fps\": 12.5,\\n  \"wall_time_s\": 3.5,\\n  \"peak_rss_mb\": 100,\\n"
-                  "  \"keyframes\": 7,\\n  \"map_points\": 321\\n}\\n' > \"$out/report.json\"\n"
-                  "printf '# t track total\\n1.0 2.0 4.0\\n2.0 3.0 5.0\\n' > \"$out/frame_times.txt\"\n"
-                  "echo \"$mode done\"\n");
+  test::writeText(
+      path,
+      "#!/bin/sh\n"
+      "# args: run SEQ -o DIR --mode MODE ...\n"
+      "out=\"$4\"; mode=\"$6\"\n"
+      "mkdir -p \"$out\"\n"
+      "run=$(basename \"$out\" | tr -d run)\n"
+      "awk -v r=\"$run\" '!/^#/ && n < 200 { n++; printf \"%s %.4f %s %s %s %s %s %s\\n\", "
+      "$1, $2 + r * 0.001, $3, $4, $5, $6, $7, $8 }' \"$2/groundtruth.txt\" > "
+      "\"$out/trajectory.txt\"\n"
+      "printf '{\\n  \"fps\": 12.5,\\n  \"wall_time_s\": 3.5,\\n  \"peak_rss_mb\": 100,\\n"
+      "  \"keyframes\": 7,\\n  \"map_points\": 321\\n}\\n' > \"$out/report.json\"\n"
+      "printf '# t track total\\n1.0 2.0 4.0\\n2.0 3.0 5.0\\n' > \"$out/frame_times.txt\"\n"
+      "echo \"$mode done\"\n");
   ::chmod(path.c_str(), 0755);
   return path;
 }
@@ -69,7 +70,8 @@ TEST(BenchJobs, ParallelRunsKeepThePlanOrderAndTheReport) {
   o.out_dir = tmp / "parallel";
   o.jobs = 3;
   std::vector<std::string> lines;
-  const BenchResults parallel = BenchRunner(o).runAll([&](const std::string& l) { lines.push_back(l); });
+  const BenchResults parallel =
+      BenchRunner(o).runAll([&](const std::string& l) { lines.push_back(l); });
   ASSERT_EQ(parallel.runs.size(), 4u);
   EXPECT_EQ(parallel.failures(), 0u) << parallel.runs[0].error;
   for (std::size_t i = 0; i < 4; ++i) {
@@ -79,7 +81,8 @@ TEST(BenchJobs, ParallelRunsKeepThePlanOrderAndTheReport) {
   EXPECT_EQ(lines.size(), 8u);  // a start and a result line per run
   // Run 2's trajectory is 1 mm off run 1's: the numbers are each run's own.
   ASSERT_TRUE(parallel.runs[0].evaluation && parallel.runs[1].evaluation);
-  EXPECT_NE(parallel.runs[0].evaluation->ate.stats.rmse, parallel.runs[1].evaluation->ate.stats.rmse);
+  EXPECT_NE(parallel.runs[0].evaluation->ate.stats.rmse,
+            parallel.runs[1].evaluation->ate.stats.rmse);
   EXPECT_EQ(replaceAll(BenchReport(parallel).json(), tmp / "parallel", tmp / "serial"),
             BenchReport(serial).json());
   EXPECT_DOUBLE_EQ(parallel.runs[0].wall_s, 3.5);  // from the run's report.json
@@ -110,7 +113,8 @@ TEST(BenchJobs, EmittedCommandsThenCollectGiveTheSameReport) {
   test::writeText(tmp / "jobs.sh", reversed);
   const auto r = test::runShellSplit("sh " + test::shellQuote(tmp / "jobs.sh"));
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_EQ(test::readText(tmp / "emitted/rgbd_dataset_freiburg1_rpy/detect/run2.log"), "detect done\n");
+  EXPECT_EQ(test::readText(tmp / "emitted/rgbd_dataset_freiburg1_rpy/detect/run2.log"),
+            "detect done\n");
   const BenchPlan read = readBenchPlan(o.out_dir, o.dynslam_binary);
   ASSERT_EQ(read.runs.size(), plan.runs.size());
   EXPECT_EQ(read.runs[3].argv, plan.runs[3].argv);
@@ -176,7 +180,8 @@ TEST(BenchJobsCli, CollectOfMissingOrPartialRunsFailsNamingThem) {
   const std::string run1 = tmp / "b/rgbd_dataset_freiburg1_rpy/off/run1";
   const auto missing = test::runDynslam({"bench", "--collect", tmp / "b"});
   EXPECT_EQ(missing.exit_code, 1) << missing.output;
-  EXPECT_NE(missing.output.find(run1 + ": run folder missing"), std::string::npos) << missing.output;
+  EXPECT_NE(missing.output.find(run1 + ": run folder missing"), std::string::npos)
+      << missing.output;
 
   // A folder holding only part of a run.
   test::writeText(run1 + "/report.json", "{\"fps\": 1}\n");
@@ -195,7 +200,8 @@ std::string accuracyRows(const std::string& md) {
   bool keep = false;
   for (std::string line; std::getline(in, line);) {
     if (line.rfind("| mode |", 0) == 0)
-      keep = line.find("ATE RMSE") != std::string::npos || line.find("keyframes") != std::string::npos;
+      keep =
+          line.find("ATE RMSE") != std::string::npos || line.find("keyframes") != std::string::npos;
     if (keep && line.rfind("| ", 0) == 0) out += line + "\n";
   }
   return out;
@@ -210,11 +216,12 @@ TEST(BenchJobsCli, EmitParallelCollectEqualsPlainBench) {
   // scripts/install-deps.sh installs GNU parallel (CI runs it): a missing one
   // fails the test rather than skipping the acceptance check unseen.
   const auto parallel = test::runShellSplit("parallel --version");
-  ASSERT_EQ(parallel.exit_code, 0) << "GNU parallel not installed (scripts/install-deps.sh): "
-                                   << parallel.err;
+  ASSERT_EQ(parallel.exit_code, 0)
+      << "GNU parallel not installed (scripts/install-deps.sh): " << parallel.err;
   test::writeText(tmp / "det.yaml", "system:\n  final_global_ba: true\n");
-  const std::vector<std::string> common = {test::rpyDir(), "--modes", "off,flow", "--runs", "1",
-                                           "--max-frames", "60", "--config", tmp / "det.yaml"};
+  const std::vector<std::string> common = {test::rpyDir(), "--modes",  "off,flow",
+                                           "--runs",       "1",        "--max-frames",
+                                           "60",           "--config", tmp / "det.yaml"};
   auto with = [&](std::vector<std::string> args) {
     args.insert(args.begin() + 1, common.begin(), common.end());
     return test::runDynslam(args);

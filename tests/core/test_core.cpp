@@ -3,18 +3,18 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <fstream>
 #include <memory>
 #include <string>
 #include <thread>
 #include <vector>
-#include <fstream>
 
 #include "core/association.h"
 #include "core/atomic_file.h"
 #include "core/camera.h"
+#include "core/dynamic_mode.h"
 #include "core/errors.h"
 #include "core/json_writer.h"
-#include "core/dynamic_mode.h"
 #include "core/run_layout.h"
 #include "core/stats.h"
 #include "core/timing.h"
@@ -38,8 +38,7 @@ TEST(Association, GreedyClosestPairsLikeAssociatePy) {
 }
 
 TEST(Association, StrictThreshold) {
-  EXPECT_TRUE(associateTimestamps({1.0}, {1.02}, 0.02).empty() ||
-              std::abs(1.02 - 1.0) < 0.02);
+  EXPECT_TRUE(associateTimestamps({1.0}, {1.02}, 0.02).empty() || std::abs(1.02 - 1.0) < 0.02);
   EXPECT_TRUE(associateTimestamps({1.0}, {1.05}, 0.02).empty());
   EXPECT_EQ(associateTimestamps({1.0}, {1.019}, 0.02).size(), 1u);
 }
@@ -57,8 +56,16 @@ TEST(Stats, KnownValues) {
 
 TEST(JsonWriter, NestedDocument) {
   JsonWriter w;
-  w.beginObject().value("a", 1).value("s", "x\"y").beginArray("v").element(0.5).endArray()
-      .beginObject("o").value("nan", std::nan("")).endObject().endObject();
+  w.beginObject()
+      .value("a", 1)
+      .value("s", "x\"y")
+      .beginArray("v")
+      .element(0.5)
+      .endArray()
+      .beginObject("o")
+      .value("nan", std::nan(""))
+      .endObject()
+      .endObject();
   EXPECT_EQ(w.str(),
             "{\n  \"a\": 1,\n  \"s\": \"x\\\"y\",\n  \"v\": [\n    0.5\n  ],\n"
             "  \"o\": {\n    \"nan\": null\n  }\n}\n");
@@ -88,8 +95,7 @@ TEST(AtomicFile, FailingWriterLeavesNothing) {
 
 TEST(Trajectory, RoundTripKnownPose) {
   TempDir d;
-  writeText(d / "t.txt",
-            "# comment\n1.0 1 2 3 0 0 0 1\n\n2.5 0 0 0 0 0 0.7071068 0.7071068\n");
+  writeText(d / "t.txt", "# comment\n1.0 1 2 3 0 0 0 1\n\n2.5 0 0 0 0 0 0.7071068 0.7071068\n");
   const Trajectory t = readTumTrajectory(d / "t.txt");
   ASSERT_EQ(t.size(), 2u);
   EXPECT_DOUBLE_EQ(t[0].pose.y(), 2.0);
@@ -113,8 +119,7 @@ static std::string errorOf(const std::string& content) {
 }
 
 TEST(Trajectory, BadInputNamesFileAndLine) {
-  EXPECT_EQ(errorOf("1 0 0 0 0 0 0 1\n2 0 0 0 0 0 1\n"),
-            "gt.txt:2: expected 8 fields, found 7");
+  EXPECT_EQ(errorOf("1 0 0 0 0 0 0 1\n2 0 0 0 0 0 1\n"), "gt.txt:2: expected 8 fields, found 7");
   EXPECT_EQ(errorOf("1 0 0 0 0 0 0 1\n2 0 0 x 0 0 0 1\n"),
             "gt.txt:2: field 4 ('x') is not a number");
   EXPECT_EQ(errorOf("# h\n1 0 0 0 0 0 0 0\n").rfind("gt.txt:2: quaternion", 0), 0u);

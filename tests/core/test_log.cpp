@@ -52,8 +52,8 @@ TEST(Log, ThresholdAndLineFormat) {
   setLogLevel(LogLevel::kWarn);
   logf(LogLevel::kInfo, "x", "dropped");
   logf(LogLevel::kWarn, "x", "%s", "");
-  EXPECT_EQ(log.lines, (std::vector<std::string>{"[map] kf 12 BA: 7 kfs, 0.12 px\n", "[loop] plain\n",
-                                                 "[x] \n"}));
+  EXPECT_EQ(log.lines, (std::vector<std::string>{"[map] kf 12 BA: 7 kfs, 0.12 px\n",
+                                                 "[loop] plain\n", "[x] \n"}));
 }
 
 // A message longer than any fixed buffer arrives whole.

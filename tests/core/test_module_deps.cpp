@@ -62,7 +62,8 @@ std::map<std::string, Module> readModules(const fs::path& root) {
 
 TEST(ModuleDependencies, EveryIncludedModuleIsDeclared) {
   const auto mods = readModules(dynslam::test::sourceDir());
-  ASSERT_GE(mods.size(), 15u) << "module CMakeLists.txt not found under " << dynslam::test::sourceDir();
+  ASSERT_GE(mods.size(), 15u) << "module CMakeLists.txt not found under "
+                              << dynslam::test::sourceDir();
   ASSERT_TRUE(mods.count("core") && mods.count("tracking") && mods.count("render"));
   const std::regex include(R"(#include\s+"(\w+)/)");
   for (const auto& [name, mod] : mods)
@@ -74,9 +75,8 @@ TEST(ModuleDependencies, EveryIncludedModuleIsDeclared) {
         const std::string used = (*it)[1].str();
         if (used == name || !mods.count(used)) continue;
         if (ext == ".h")
-          EXPECT_TRUE(mod.pub.count(used))
-              << e.path() << " includes " << used << "/ but dynslam_" << used
-              << " is not among dynslam_" << name << "'s DEPS";
+          EXPECT_TRUE(mod.pub.count(used)) << e.path() << " includes " << used << "/ but dynslam_"
+                                           << used << " is not among dynslam_" << name << "'s DEPS";
         else
           EXPECT_TRUE(mod.pub.count(used) || mod.priv.count(used))
               << e.path() << " includes " << used << "/ but dynslam_" << used

@@ -38,7 +38,8 @@ TEST(YamlWriter, NestedSectionsReadBackThroughConfigSection) {
       .endSection()
       .value("top", "x");
   const std::string text = w.str();
-  EXPECT_EQ(text.rfind("# header\n# second line\nouter:\n  flag: true\n  count: 42\n", 0), 0u) << text;
+  EXPECT_EQ(text.rfind("# header\n# second line\nouter:\n  flag: true\n  count: 42\n", 0), 0u)
+      << text;
   test::writeText(d / "w.yaml", text);
   ConfigSection root(loadYamlFile(d / "w.yaml"), d / "w.yaml", "");
   ConfigSection outer = root.sub("outer");

@@ -186,7 +186,7 @@ TEST(MotionCarry, HalfResolutionTrackingRecoversAKnownShift) {
   cv::GaussianBlur(big, big, cv::Size(0, 0), 2.0);
   const cv::Mat a = big(cv::Rect(40, 40, 640, 480)).clone();
   const cv::Mat b = big(cv::Rect(40 - 14, 40 + 6, 640, 480)).clone();  // content moves +14, -6
-  MotionCheckParams p;  // defaults: half resolution
+  MotionCheckParams p;                                                 // defaults: half resolution
   ASSERT_EQ(p.lk_downsample, 2);
   MotionConsistencyCheck check(p);
   const MotionFrame fa = check.makeFrame(a, cv::Mat()), fb = check.makeFrame(b, cv::Mat());
@@ -209,7 +209,6 @@ TEST(MotionCarry, HalfResolutionTrackingRecoversAKnownShift) {
   const MotionFrame fc = MotionConsistencyCheck(full).makeFrame(b, cv::Mat());
   EXPECT_THROW(check.track(fa, fc, pts, ok), std::invalid_argument);  // mixed scales
 }
-
 
 TEST(BoxDepthMasker, HintsOnePerBoxOrThrow) {
   BoxDepthMasker m;

@@ -112,7 +112,8 @@ class DetectorLayouts : public ::testing::TestWithParam<const char*> {};
 TEST_P(DetectorLayouts, FindsHandCheckedPeople) {
   YoloDetector& det = detector(GetParam());
   // Zidane: the two men. Bus: the three required and the sliver at the left edge.
-  expectPeople(det.detect(image("zidane.jpg")), kZidanePeople, 2, std::string(GetParam()) + " zidane");
+  expectPeople(det.detect(image("zidane.jpg")), kZidanePeople, 2,
+               std::string(GetParam()) + " zidane");
   expectPeople(det.detect(image("bus.jpg")), kBusPeople, 4, std::string(GetParam()) + " bus");
 }
 
@@ -137,7 +138,7 @@ TEST(Detector, FrameSizedInputNeedsNoLetterbox) {
                {cv::Rect2f(cv::Point2f(50, 18), cv::Point2f(245, 480)),
                 cv::Rect2f(cv::Point2f(222, 25), cv::Point2f(345, 480))},
                3, "640x480 crop");  // and perhaps the sliver at the left edge
-  for (const auto& d : dets) {  // clipped to the image
+  for (const auto& d : dets) {      // clipped to the image
     EXPECT_GE(d.box.x, 0.f);
     EXPECT_LE(d.box.x + d.box.width, 640.f + 1e-3f);
     EXPECT_LE(d.box.y + d.box.height, 480.f + 1e-3f);

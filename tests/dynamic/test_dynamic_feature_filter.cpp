@@ -86,8 +86,12 @@ struct Shares {
 Shares score(const std::vector<cv::KeyPoint>& kps, const std::vector<uint8_t>& dyn, int k) {
   Shares s;
   const cv::Rect w = walker(k), l = late_mover(k);
-  auto inner = [](cv::Rect r, int m) { return cv::Rect(r.x + m, r.y + m, r.width - 2 * m, r.height - 2 * m); };
-  auto outer = [](cv::Rect r, int m) { return cv::Rect(r.x - m, r.y - m, r.width + 2 * m, r.height + 2 * m); };
+  auto inner = [](cv::Rect r, int m) {
+    return cv::Rect(r.x + m, r.y + m, r.width - 2 * m, r.height - 2 * m);
+  };
+  auto outer = [](cv::Rect r, int m) {
+    return cv::Rect(r.x - m, r.y - m, r.width + 2 * m, r.height + 2 * m);
+  };
   for (std::size_t i = 0; i < kps.size(); ++i) {
     const cv::Point p(cvRound(kps[i].pt.x), cvRound(kps[i].pt.y));
     if (inner(w, 3).contains(p)) {
@@ -232,11 +236,13 @@ std::vector<uint8_t> mapInliersOff(const std::vector<cv::KeyPoint>& kps,
 // pose before) the fit is not used.
 TEST(DynamicFeatureFilterTwoPhases, TracksFitPreFlagsAMapObjectThatStartsMoving) {
   const Sequence s = makeSequence();
-  DynamicFeatureFilter filter(flowOnly(), test::sceneCamera()), blind(flowOnly(), test::sceneCamera());
+  DynamicFeatureFilter filter(flowOnly(), test::sceneCamera()),
+      blind(flowOnly(), test::sceneCamera());
   Phases p3, b3;
   for (std::size_t k = 0; k < s.frames.size(); ++k) {
     TrackedPose t = posed(k);
-    t.map_inliers = mapInliersOff(s.keypoints[k], {walker(int(k))});  // the late mover is in the map
+    t.map_inliers =
+        mapInliersOff(s.keypoints[k], {walker(int(k))});  // the late mover is in the map
     const Phases p = step(filter, s, k, t);
     const Phases b = step(blind, s, k, posed(k));
     if (k == 3) p3 = p, b3 = b;
@@ -379,7 +385,8 @@ TEST(DynamicFeatureFilterTwoPhases, CrowdFillingTheViewIsFlaggedNotTheWalls) {
 // frame later it has been tracked and is judged static too.
 TEST(DynamicFeatureFilterTwoPhases, KeypointsOfWhatEntersTheViewAreUnjudgedOnce) {
   cv::RNG rng(9);
-  const cv::Mat wall = test::noiseTexture(rng, {W + 60, H + 60}), patch = test::noiseTexture(rng, {100, 100});
+  const cv::Mat wall = test::noiseTexture(rng, {W + 60, H + 60}),
+                patch = test::noiseTexture(rng, {100, 100});
   auto at = [](int k) { return cv::Rect(120 - 6 * k, 70, 100, 100); };  // static at 2 m
   Sequence s;
   for (int k = 0; k < 4; ++k) {
@@ -403,11 +410,14 @@ TEST(DynamicFeatureFilterTwoPhases, KeypointsOfWhatEntersTheViewAreUnjudgedOnce)
     for (std::size_t i = 0; i < u.size() && i < s.keypoints[k].size(); ++i) {
       const cv::Point p(cvRound(s.keypoints[k][i].pt.x), cvRound(s.keypoints[k][i].pt.y));
       const int ok = !u[i] && !dynamic[i];
-      if (inner.contains(p)) ++in, in_mappable += ok, in_unjudged += u[i];
-      else if (!outer.contains(p) && p.x < W - 20) ++out, out_mappable += ok;  // the right edge enters the view too
+      if (inner.contains(p))
+        ++in, in_mappable += ok, in_unjudged += u[i];
+      else if (!outer.contains(p) && p.x < W - 20)
+        ++out, out_mappable += ok;  // the right edge enters the view too
     }
     EXPECT_GT(in, 20);
-    return std::array<double, 3>{double(in_mappable) / std::max(1, in), double(out_mappable) / std::max(1, out),
+    return std::array<double, 3>{double(in_mappable) / std::max(1, in),
+                                 double(out_mappable) / std::max(1, out),
                                  double(in_unjudged) / std::max(1, in)};
   };
   step(filter, s, 0, posed(0));
@@ -423,7 +433,8 @@ TEST(DynamicFeatureFilterTwoPhases, KeypointsOfWhatEntersTheViewAreUnjudgedOnce)
   const Phases next = step(filter, s, 3, posed(3));
   ASSERT_TRUE(next.changed);
   const auto second = mappable(3, next.judged);
-  RecordProperty("next_frame_mappable_pct", int(100 * second[0]));  // measured 67 (the rest flagged)
+  RecordProperty("next_frame_mappable_pct",
+                 int(100 * second[0]));  // measured 67 (the rest flagged)
   EXPECT_LT(second[2], 0.05) << "tracked since the frame before";
   EXPECT_GT(second[1], 0.95);
 }

@@ -125,4 +125,3 @@ TEST(DepthRegionGrower, GrowsOverTheObjectNotAcrossDepthSteps) {
   EXPECT_LE(cv::countNonZero(wall), int(0.25 * 320 * 240) + 4);
   EXPECT_GT(cv::countNonZero(wall), int(0.2 * 320 * 240));
 }
-

@@ -157,7 +157,7 @@ TEST(ClassifyMotion, KnownMotionOverridesACrowdThatHijacksTheFit) {
   ASSERT_GT(rates(s, fitted.dynamic).false_positive, 0.5);  // hijacked
   CameraMotion known;
   cv::Rodrigues(cv::Vec3d(0.02 + 0.002, -0.045, 0.01), known.R);  // ~0.1 deg off
-  known.t = cv::Vec3d(0.12, 0.02 + 0.005, 0.03);                   // 5 mm off
+  known.t = cv::Vec3d(0.12, 0.02 + 0.005, 0.03);                  // 5 mm off
   const GeometryResult g = classifyMotion(s.c, kK, MotionCheckParams(), &known);
   EXPECT_TRUE(g.reliable);
   ASSERT_TRUE(g.has_pose);

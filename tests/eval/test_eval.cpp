@@ -63,8 +63,8 @@ std::vector<double> hornResiduals(const std::vector<Eigen::Vector3d>& est,
   cg /= double(gt.size());
   Eigen::Matrix3d S = Eigen::Matrix3d::Zero();
   for (std::size_t k = 0; k < est.size(); ++k) S += (est[k] - ce) * (gt[k] - cg).transpose();
-  const double xx = S(0, 0), xy = S(0, 1), xz = S(0, 2), yx = S(1, 0), yy = S(1, 1),
-               yz = S(1, 2), zx = S(2, 0), zy = S(2, 1), zz = S(2, 2);
+  const double xx = S(0, 0), xy = S(0, 1), xz = S(0, 2), yx = S(1, 0), yy = S(1, 1), yz = S(1, 2),
+               zx = S(2, 0), zy = S(2, 1), zz = S(2, 2);
   Eigen::Matrix4d N;
   N << xx + yy + zz, yz - zy, zx - xz, xy - yx,  //
       yz - zy, xx - yy - zz, xy + yx, zx + xz,   //
@@ -72,7 +72,8 @@ std::vector<double> hornResiduals(const std::vector<Eigen::Vector3d>& est,
       xy - yx, zx + xz, yz + zy, -xx - yy + zz;
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix4d> eig(N);
   const Eigen::Vector4d q = eig.eigenvectors().col(3);  // eigenvalues ascending
-  const Eigen::Matrix3d R = Eigen::Quaterniond(q(0), q(1), q(2), q(3)).normalized().toRotationMatrix();
+  const Eigen::Matrix3d R =
+      Eigen::Quaterniond(q(0), q(1), q(2), q(3)).normalized().toRotationMatrix();
   const Eigen::Vector3d t = cg - R * ce;
   std::vector<double> res;
   for (std::size_t k = 0; k < est.size(); ++k) res.push_back((R * est[k] + t - gt[k]).norm());
@@ -166,7 +167,8 @@ class FlatJson {
   void expect(char c) {
     skipWs();
     if (pos_ >= s_.size() || s_[pos_] != c)
-      throw std::runtime_error(std::string("JSON: expected '") + c + "' at " + std::to_string(pos_));
+      throw std::runtime_error(std::string("JSON: expected '") + c + "' at " +
+                               std::to_string(pos_));
     ++pos_;
   }
   std::string str() {
@@ -226,7 +228,8 @@ TEST(EvalAte, RigidlyTransformedGroundtruthHasZeroError) {
   EXPECT_LT(ate.stats.rmse, 1e-9);
   EXPECT_LT(ate.stats.max, 1e-9);
   // alignment maps the estimate back: alignment * T = identity
-  const Eigen::Matrix4d back = ate.alignment * kWorldChange.getHomogeneousMatrixVal<mrpt::math::CMatrixDouble44>().asEigen();
+  const Eigen::Matrix4d back =
+      ate.alignment * kWorldChange.getHomogeneousMatrixVal<mrpt::math::CMatrixDouble44>().asEigen();
   EXPECT_LT((back - Eigen::Matrix4d::Identity()).norm(), 1e-9);
 
   for (RpeDelta d : {RpeDelta::seconds(1.0), RpeDelta::frames(1)}) {
@@ -333,7 +336,7 @@ TEST(EvalRpe, ConstantYawRateErrorGivesKnownRotationalRpe) {
 // interval away are skipped (evaluate_rpe.py's gt_max_time_difference).
 TEST(EvalRpe, PairsFarFromGroundtruthAreSkipped) {
   Trajectory gt, est;
-  for (int k = 0; k <= 40; ++k) gt.push_back({0.1 * k, CPose3D()});  // 0..4 s, 0.1 s apart
+  for (int k = 0; k <= 40; ++k) gt.push_back({0.1 * k, CPose3D()});   // 0..4 s, 0.1 s apart
   for (int k = 0; k <= 10; ++k) est.push_back({0.5 * k, CPose3D()});  // 0..5 s
   const RpeResult r = computeRpe(gt, est, RpeDelta::seconds(1));
   // i -> i+2 for i = 0..7 (i = 8 reaches the last pose); i = 7 pairs with 4.5 s,
@@ -401,8 +404,8 @@ TEST(EvalReference, AgreesWithIndependentImplementations) {
   std::uniform_real_distribution<double> u(-1, 1);
   Trajectory est;
   for (std::size_t k = 0; k < gt.size(); k += 3) {
-    const CPose3D noise(0.02 * u(rng), 0.02 * u(rng), 0.02 * u(rng), 0.03 * u(rng),
-                        0.03 * u(rng), 0.03 * u(rng));
+    const CPose3D noise(0.02 * u(rng), 0.02 * u(rng), 0.02 * u(rng), 0.03 * u(rng), 0.03 * u(rng),
+                        0.03 * u(rng));
     est.push_back({gt[k].timestamp + 0.004 * u(rng), gt[k].pose + noise});
   }
   est.push_back({gt.back().timestamp + 1.0, gt.back().pose});  // no groundtruth nearby
@@ -415,11 +418,13 @@ TEST(EvalReference, AgreesWithIndependentImplementations) {
   ASSERT_EQ(ate.stats.count, est.size() - 1);
   std::vector<Eigen::Vector3d> pe, pg;
   for (std::size_t k = 0; k + 1 < est.size(); ++k) {
-    const std::size_t g = nearestByScan([&] {
-      std::vector<double> t;
-      for (const auto& p : gt) t.push_back(p.timestamp);
-      return t;
-    }(), est[k].timestamp);
+    const std::size_t g = nearestByScan(
+        [&] {
+          std::vector<double> t;
+          for (const auto& p : gt) t.push_back(p.timestamp);
+          return t;
+        }(),
+        est[k].timestamp);
     pe.emplace_back(est[k].pose.x(), est[k].pose.y(), est[k].pose.z());
     pg.emplace_back(gt[g].pose.x(), gt[g].pose.y(), gt[g].pose.z());
   }
@@ -428,8 +433,7 @@ TEST(EvalReference, AgreesWithIndependentImplementations) {
   expectStats(ate.stats, ref_ate, 1e-9);
 
   for (bool frames : {false, true}) {
-    const RpeResult rpe =
-        computeRpe(gt, est, frames ? RpeDelta::frames(1) : RpeDelta::seconds(1));
+    const RpeResult rpe = computeRpe(gt, est, frames ? RpeDelta::frames(1) : RpeDelta::seconds(1));
     const RefRpe ref = bruteForceRpe(gt, est, 1.0, frames);
     ASSERT_EQ(rpe.pairs.size(), ref.trans.size()) << frames;
     ASSERT_GT(ref.trans.size(), 100u);
@@ -510,7 +514,8 @@ TEST(EvalCli, TextReportStatesConventionsThenNumbers) {
   EXPECT_NE(r.output.find("< 0.015 s"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("find_closest_index"), std::string::npos);
   char rmse[64];
-  std::snprintf(rmse, sizeof rmse, "%.6f m", evaluateTrajectoryFiles(f.gt, f.est, 0.015).ate.stats.rmse);
+  std::snprintf(rmse, sizeof rmse, "%.6f m",
+                evaluateTrajectoryFiles(f.gt, f.est, 0.015).ate.stats.rmse);
   EXPECT_NE(r.output.find(rmse), std::string::npos) << r.output;
 }
 
@@ -524,9 +529,9 @@ TEST(EvalCli, CoverageOfTumSequence) {
     e.push_back({frames[k], g[nearestByScan(tg, frames[k])].pose});
   TempDir d;
   writeTumTrajectory(d / "est.txt", e);
-  const auto r = dynslam::test::runDynslam(
-      {"eval", dynslam::test::rpyDir() + "/groundtruth.txt", d / "est.txt", "--seq",
-       dynslam::test::rpyDir(), "--json"});
+  const auto r =
+      dynslam::test::runDynslam({"eval", dynslam::test::rpyDir() + "/groundtruth.txt",
+                                 d / "est.txt", "--seq", dynslam::test::rpyDir(), "--json"});
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const FlatJson j(r.output);
   expectJsonMatches(j, "pairs", double(frames.size()));
@@ -583,8 +588,7 @@ TEST(EvalCli, HelpAndUsageErrors) {
 // drift, another world frame). Acceptance: agreement to 1e-4 m; we check 1e-6.
 TEST(EvalReference, MatchesTumScriptsOnRecordedFixture) {
   const std::string est = dynslam::test::sourceDir() + "/tests/eval/data/rpy_drift_estimate.txt";
-  const Evaluation e =
-      evaluateTrajectoryFiles(dynslam::test::rpyDir() + "/groundtruth.txt", est);
+  const Evaluation e = evaluateTrajectoryFiles(dynslam::test::rpyDir() + "/groundtruth.txt", est);
   const std::map<std::string, double> got = {
       {"ate.poses", double(e.ate.stats.count)},
       {"ate.rmse", e.ate.stats.rmse},

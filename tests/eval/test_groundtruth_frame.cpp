@@ -17,7 +17,8 @@ TEST(GroundtruthInEstimateFrame, RecoversTheEstimatesOwnPoses) {
   Trajectory gt;
   for (int i = 0; i < 200; ++i) {
     const double t = 0.01 * i;
-    gt.push_back({t, CPose3D(std::sin(t), 0.5 * t, 0.2 * std::cos(3 * t), 0.3 * t, 0.1 * std::sin(t), -0.2 * t)});
+    gt.push_back({t, CPose3D(std::sin(t), 0.5 * t, 0.2 * std::cos(3 * t), 0.3 * t,
+                             0.1 * std::sin(t), -0.2 * t)});
   }
   // The estimate's world frame: gt = W * estimate.
   const CPose3D W(1.5, -2.0, 0.7, 0.9, -0.3, 0.4);

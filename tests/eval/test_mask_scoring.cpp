@@ -70,10 +70,10 @@ TEST(MaskScoringBoxes, StaticPointsInUnmaskedPersonBoxesCountedApart) {
   gt(cv::Rect(20, 20, 30, 60)).setTo(1);  // a walker
   // Points: 2 on the walker, 2 static inside a box on nobody (the seated
   // person), 2 static elsewhere; flags: walker both, seated both, other one.
-  const std::vector<cv::Point2f> pts = {{35, 50}, {30, 40}, {130, 50}, {140, 60},
-                                        {180, 10}, {100, 90}};
+  const std::vector<cv::Point2f> pts = {{35, 50},  {30, 40},  {130, 50},
+                                        {140, 60}, {180, 10}, {100, 90}};
   const std::vector<uint8_t> flags = {1, 1, 1, 1, 1, 0};
-  const std::vector<cv::Rect2f> boxes = {cv::Rect2f(120, 30, 40, 50),   // on nobody
+  const std::vector<cv::Rect2f> boxes = {cv::Rect2f(120, 30, 40, 50),  // on nobody
                                          cv::Rect2f(15, 15, 40, 70)};  // on the walker
   const MaskScore s = scoreKeypoints(pts, flags, gt, 3, &boxes);
   EXPECT_EQ(s.walker_points, 2);
@@ -147,13 +147,15 @@ TEST(KeypointTruthScorer, SumsFramesAndScoresTrackingsFlagsApart) {
   const std::string json = w.str();
   for (const std::string& member :
        {"\"frames_scored\": 2", "\"walker_points\": 4", "\"walker_flagged\": 3", "\"recall\": 0.75",
-        "\"static_points\": 4", "\"false_rejection_rate\": 0.25", "\"standing_rejection_rate\": null",
-        "\"before_tracking\": {", "\"recall\": 0.5", "\"false_rejection_rate\": 0.5"})
+        "\"static_points\": 4", "\"false_rejection_rate\": 0.25",
+        "\"standing_rejection_rate\": null", "\"before_tracking\": {", "\"recall\": 0.5",
+        "\"false_rejection_rate\": 0.5"})
     EXPECT_NE(json.find(member), std::string::npos) << member << " in " << json;
   // Per frame: walker points, flagged, static points, flagged.
   auto compact = json;
   compact.erase(std::remove_if(compact.begin(), compact.end(), ::isspace), compact.end());
-  EXPECT_NE(compact.find("\"per_frame_walker_points_flagged_static_points_flagged\":[[2,1,2,1],[2,2,2,0]]"),
+  EXPECT_NE(compact.find(
+                "\"per_frame_walker_points_flagged_static_points_flagged\":[[2,1,2,1],[2,2,2,0]]"),
             std::string::npos)
       << json;
 }

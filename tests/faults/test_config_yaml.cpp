@@ -21,8 +21,7 @@ class BadYaml : public ::testing::Test {
   void SetUp() override { tum_ = makeMiniTum(dir_.path(), 3); }
 
   /// `run` with `text` as --config (or as --camera); expects the fault.
-  void expectRejected(const std::string& text, bool camera = false,
-                      const std::string& where = "") {
+  void expectRejected(const std::string& text, bool camera = false, const std::string& where = "") {
     const std::string yaml = dir_ / "bad.yaml";
     writeText(yaml, text);
     std::vector<std::string> args = {"run", tum_.dir, "-o", dir_ / "out", "--mode", "off"};
@@ -51,7 +50,9 @@ TEST_F(BadYaml, DuplicateKey) {
 TEST_F(BadYaml, DuplicateSection) {
   expectRejected("orb:\n  n_features: 500\ntracker: {}\norb:\n  n_levels: 4\n", false, ":4:");
 }
-TEST_F(BadYaml, DuplicateCameraKey) { expectRejected(std::string(kCamera) + "  fx: 1.0\n", true, ":9:"); }
+TEST_F(BadYaml, DuplicateCameraKey) {
+  expectRejected(std::string(kCamera) + "  fx: 1.0\n", true, ":9:");
+}
 TEST_F(BadYaml, UnknownCameraKey) { expectRejected(std::string(kCamera) + "  k4: 0.1\n", true); }
 TEST_F(BadYaml, MalformedYaml) { expectRejected("orb: [1, 2\n  n_features: {\n"); }
 TEST_F(BadYaml, BareScalar) { expectRejected("just some words\n"); }

@@ -40,8 +40,7 @@ TEST(ExitCodes, RenderRangeErrors) {
   const std::string ply = writeSmallPly(d);
   expectUsageError({"render", ply, "-o", d / "a.png", "--width", "0"}, "image size");
   expectUsageError({"render", ply, "-o", d / "a.png", "--fov", "400"}, "FOV");
-  expectUsageError({"render", ply, "-o", d / "a.png", "--background", "300,0,0"},
-                   "--background");
+  expectUsageError({"render", ply, "-o", d / "a.png", "--background", "300,0,0"}, "--background");
   expectUsageError({"render", ply, "-o", d / "a.png", "--up", "1,2"}, "--up");
   expectUsageError({"render", ply, "-o", d / "a.png", "--view", "sideways"}, "sideways");
   EXPECT_EQ(entriesIn(d.path()), std::vector<std::string>{"map.ply"});
@@ -51,8 +50,7 @@ TEST(ExitCodes, ExportRangeErrors) {
   TempDir d;
   // RUN_DIR does not exist: the bad value is reported first, with exit 2.
   expectUsageError({"export", d / "run", "-o", d / "m.ply", "--stride", "0"}, "pixel_stride");
-  expectUsageError({"export", d / "run", "-o", d / "m.ply", "--mask-margin", "-3"},
-                   "mask_margin");
+  expectUsageError({"export", d / "run", "-o", d / "m.ply", "--mask-margin", "-3"}, "mask_margin");
   expectUsageError({"export", d / "run", "-o", d / "m.ply", "--voxel", "-1"}, "voxel_leaf");
   expectUsageError({"export", d / "run", "-o", d / "m.xyz"}, "m.xyz");
   expectUsageError({"export", d / "run", "-o", d / "m.ply", "--resolution", "0.1"}, "--resolution");

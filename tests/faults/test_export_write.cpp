@@ -21,8 +21,7 @@ class ExportFaults : public ::testing::Test {
     scratch_ = new TempDir;
     const MiniTum tum = makeMiniTum(scratch_->path(), 30);
     run_dir_ = *scratch_ / "run";
-    const SplitCommandResult r =
-        runDynslamSplit({"run", tum.dir, "-o", run_dir_, "--mode", "off"});
+    const SplitCommandResult r = runDynslamSplit({"run", tum.dir, "-o", run_dir_, "--mode", "off"});
     ASSERT_EQ(r.exit_code, 0) << r.err;
   }
   static void TearDownTestSuite() {
@@ -30,8 +29,9 @@ class ExportFaults : public ::testing::Test {
     scratch_ = nullptr;
   }
   static std::vector<std::string> exportArgs(const std::string& out) {
-    return {"export", run_dir_, "-o", out, "--stride", "4", "--no-carving",
-            "--no-outlier-removal", "--truth-masks", "none"};
+    return {"export",        run_dir_, "-o",           out,
+            "--stride",      "4",      "--no-carving", "--no-outlier-removal",
+            "--truth-masks", "none"};
   }
   static TempDir* scratch_;
   static std::string run_dir_;
@@ -42,7 +42,8 @@ std::string ExportFaults::run_dir_;
 /// A 64 KiB tmpfs mounted on a fresh folder; unmounted on destruction.
 class SmallDisk {
  public:
-  SmallDisk() : dir_(), mounted_(::mount("tmpfs", dir_.path().c_str(), "tmpfs", 0, "size=64k") == 0) {}
+  SmallDisk()
+      : dir_(), mounted_(::mount("tmpfs", dir_.path().c_str(), "tmpfs", 0, "size=64k") == 0) {}
   ~SmallDisk() {
     if (mounted_) ::umount(dir_.path().c_str());
   }

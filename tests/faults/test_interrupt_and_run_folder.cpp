@@ -102,7 +102,8 @@ TEST(RunInterrupted, SecondSignalEndsAtOnceAndTheNextRunCleansUp) {
   EXPECT_EQ(readText(out + "/report.json"), "earlier run");
   ASSERT_EQ(hiddenEntries(d.path()).size(), 1u);
   // ...until the next run into the same folder removes it.
-  const CommandResult r = runDynslam({"run", rpyDir(), "-o", out, "--mode", "off", "--max-frames", "5"});
+  const CommandResult r =
+      runDynslam({"run", rpyDir(), "-o", out, "--mode", "off", "--max-frames", "5"});
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_TRUE(hiddenEntries(d.path()).empty());
   EXPECT_NE(readText(out + "/report.json"), "earlier run");
@@ -121,7 +122,8 @@ TEST(RunOutputFolder, AFolderOfOtherFilesIsRefusedAndKept) {
 TEST(RunOutputFolder, AFailedRunLeavesTheEarlierRunWhole) {
   TempDir d;
   const std::string out = d / "run";
-  ASSERT_EQ(runDynslam({"run", rpyDir(), "-o", out, "--mode", "off", "--max-frames", "20"}).exit_code, 0);
+  ASSERT_EQ(
+      runDynslam({"run", rpyDir(), "-o", out, "--mode", "off", "--max-frames", "20"}).exit_code, 0);
   const std::string before = readText(out + "/trajectory.txt");
   // A sequence whose 10th depth image is unreadable fails mid-run.
   const std::string seq = d / "rgbd_dataset_freiburg1_broken";
@@ -131,12 +133,16 @@ TEST(RunOutputFolder, AFailedRunLeavesTheEarlierRunWhole) {
   fs::create_directory_symlink(rpyDir() + "/rgb", seq + "/rgb");
   fs::create_directories(seq + "/depth");
   std::vector<std::string> names;
-  for (const auto& e : fs::directory_iterator(rpyDir() + "/depth")) names.push_back(e.path().filename());
+  for (const auto& e : fs::directory_iterator(rpyDir() + "/depth"))
+    names.push_back(e.path().filename());
   std::sort(names.begin(), names.end());
   for (std::size_t i = 0; i < names.size(); ++i)
-    if (i == 10) writeText(seq + "/depth/" + names[i], "not a png");
-    else fs::create_symlink(rpyDir() + "/depth/" + names[i], seq + "/depth/" + names[i]);
-  const CommandResult r = runDynslam({"run", seq, "-o", out, "--mode", "off", "--max-frames", "40"});
+    if (i == 10)
+      writeText(seq + "/depth/" + names[i], "not a png");
+    else
+      fs::create_symlink(rpyDir() + "/depth/" + names[i], seq + "/depth/" + names[i]);
+  const CommandResult r =
+      runDynslam({"run", seq, "-o", out, "--mode", "off", "--max-frames", "40"});
   EXPECT_EQ(r.exit_code, 1) << r.output;
   EXPECT_EQ(readText(out + "/trajectory.txt"), before);
   EXPECT_TRUE(hiddenEntries(d.path()).empty());
@@ -162,5 +168,6 @@ TEST(ConvertInterrupted, SigintRemovesItsTemporaries) {
   std::vector<std::string> left;
   for (const auto& e : fs::directory_iterator(d.path()))
     if (e.path().filename() != "log") left.push_back(e.path().filename());
-  EXPECT_TRUE(left.empty()) << left.size() << " entries left, first " << (left.empty() ? "" : left[0]);
+  EXPECT_TRUE(left.empty()) << left.size() << " entries left, first "
+                            << (left.empty() ? "" : left[0]);
 }

@@ -52,8 +52,7 @@ TEST(RawlogInputs, SeveralSensorsWithoutSensorIsExit2ListingThem) {
   const std::string rawlog = writeRawlog(d, {"KINECT", "XTION"}, camera64(50));
   const SplitCommandResult r = runDynslamSplit({"run", rawlog, "-o", d / "out", "--mode", "off"});
   expectHandledFault(r, 2, rawlog);
-  EXPECT_NE(r.err.find("--sensor LABEL: 'KINECT' (1 scans), 'XTION' (1 scans)"),
-            std::string::npos)
+  EXPECT_NE(r.err.find("--sensor LABEL: 'KINECT' (1 scans), 'XTION' (1 scans)"), std::string::npos)
       << r.err;
   EXPECT_FALSE(fs::exists(d / "out"));
 }
@@ -97,10 +96,9 @@ TEST(RawlogInputs, RangeImageOfAnotherSizeThanItsCameraIsExit1) {
 TEST(RawlogInputs, ModelsDirWithoutTheModelIsExit1NamingIt) {
   TempDir d;
   const MiniTum tum = makeMiniTum(d.path(), 2);
-  const SplitCommandResult r =
-      runShellSplit("env " + shellQuote("DYNSLAM_MODELS_DIR=" + d.path()) + " " +
-                    shellQuote(dynslamBinary()) + " run " + shellQuote(tum.dir) + " -o " +
-                    shellQuote(d / "out"));
+  const SplitCommandResult r = runShellSplit("env " + shellQuote("DYNSLAM_MODELS_DIR=" + d.path()) +
+                                             " " + shellQuote(dynslamBinary()) + " run " +
+                                             shellQuote(tum.dir) + " -o " + shellQuote(d / "out"));
   expectHandledFault(r, 1, "yolov5n_480x640.onnx");
   EXPECT_NE(r.err.find("looked in " + d.path() + ")"), std::string::npos) << r.err;
 }

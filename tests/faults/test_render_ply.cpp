@@ -18,7 +18,7 @@ namespace {
 
 /// A binary little-endian PLY: float x y z, uchar red green blue per vertex.
 struct PlySpec {
-  std::size_t declared = 0;            ///< vertex count in the header
+  std::size_t declared = 0;  ///< vertex count in the header
   std::vector<std::array<float, 3>> points;
   std::string element_before, element_after;  ///< extra header lines
   std::string bytes_before, bytes_after;      ///< their data
@@ -33,8 +33,8 @@ std::vector<std::array<float, 3>> cube(std::size_t n) {
 
 void writePly(const std::string& path, const PlySpec& s) {
   std::ofstream out(path, std::ios::binary);
-  out << "ply\nformat binary_little_endian 1.0\n" << s.element_before << "element vertex "
-      << s.declared
+  out << "ply\nformat binary_little_endian 1.0\n"
+      << s.element_before << "element vertex " << s.declared
       << "\nproperty float x\nproperty float y\nproperty float z\n"
          "property uchar red\nproperty uchar green\nproperty uchar blue\n"
       << s.element_after << "end_header\n";
@@ -60,8 +60,8 @@ class RenderBadPly : public ::testing::Test {
   void expectRejected(const PlySpec& spec) {
     const std::string ply = dir / "map.ply";
     writePly(ply, spec);
-    const SplitCommandResult r = runDynslamSplit(
-        {"render", ply, "-o", dir / "out.png", "--width", "64", "--height", "48"});
+    const SplitCommandResult r =
+        runDynslamSplit({"render", ply, "-o", dir / "out.png", "--width", "64", "--height", "48"});
     expectHandledFault(r, 1, ply);
     EXPECT_EQ(entriesIn(dir.path()), std::vector<std::string>{"map.ply"});
   }

@@ -13,8 +13,7 @@ TEST(TruncatedImages, RunRejectsTruncatedJpeg) {
   TempDir d;
   const MiniTum tum = makeMiniTum(d.path(), 6);
   truncateFile(tum.rgb[3], 0.5);
-  const SplitCommandResult r =
-      runDynslamSplit({"run", tum.dir, "-o", d / "out", "--mode", "off"});
+  const SplitCommandResult r = runDynslamSplit({"run", tum.dir, "-o", d / "out", "--mode", "off"});
   expectHandledFault(r, 1, tum.rgb[3]);
   EXPECT_FALSE(fs::exists(d / "out/trajectory.txt"));
 }
@@ -23,8 +22,7 @@ TEST(TruncatedImages, RunRejectsTruncatedDepthPng) {
   TempDir d;
   const MiniTum tum = makeMiniTum(d.path(), 6);
   truncateFile(tum.depth[2], 0.5);
-  const SplitCommandResult r =
-      runDynslamSplit({"run", tum.dir, "-o", d / "out", "--mode", "off"});
+  const SplitCommandResult r = runDynslamSplit({"run", tum.dir, "-o", d / "out", "--mode", "off"});
   expectHandledFault(r, 1, tum.depth[2]);
   EXPECT_FALSE(fs::exists(d / "out/trajectory.txt"));
 }
@@ -44,9 +42,9 @@ TEST(TruncatedImages, VocabTrainRejectsTruncatedJpeg) {
   const MiniTum tum = makeMiniTum(d.path(), 3);
   truncateFile(tum.rgb[2], 0.5);
   fs::create_directories(d / "out");
-  const SplitCommandResult r = runDynslamSplit({"vocab", "train", tum.rgb[0], tum.rgb[1],
-                                                tum.rgb[2], "-o", d / "out/v.bin", "--k", "2",
-                                                "--levels", "1"});
+  const SplitCommandResult r =
+      runDynslamSplit({"vocab", "train", tum.rgb[0], tum.rgb[1], tum.rgb[2], "-o", d / "out/v.bin",
+                       "--k", "2", "--levels", "1"});
   expectHandledFault(r, 1, tum.rgb[2]);
   EXPECT_TRUE(entriesIn(d / "out").empty()) << ::testing::PrintToString(entriesIn(d / "out"));
 }
@@ -61,8 +59,8 @@ TEST(TruncatedImages, RunRejectsTruncatedExternalRawlogImage) {
     if (name.rfind("rgb_000002_", 0) == 0) rgb = d / ("x_Images/" + name);
   ASSERT_FALSE(rgb.empty()) << ::testing::PrintToString(entriesIn(d / "x_Images"));
   truncateFile(rgb, 0.5);
-  const SplitCommandResult r = runDynslamSplit(
-      {"run", d / "x.rawlog", "-o", d / "out", "--mode", "off"});
+  const SplitCommandResult r =
+      runDynslamSplit({"run", d / "x.rawlog", "-o", d / "out", "--mode", "off"});
   expectHandledFault(r, 1, fs::path(rgb).filename().string());
   EXPECT_FALSE(fs::exists(d / "out/trajectory.txt"));
 }
@@ -77,8 +75,8 @@ TEST(TruncatedImages, RunRejectsTruncatedExternalRawlogDepth) {
     if (name.rfind("depth_000003_", 0) == 0) depth = d / ("x_Images/" + name);
   ASSERT_FALSE(depth.empty()) << ::testing::PrintToString(entriesIn(d / "x_Images"));
   truncateFile(depth, 0.5);
-  const SplitCommandResult r = runDynslamSplit(
-      {"run", d / "x.rawlog", "-o", d / "out", "--mode", "off"});
+  const SplitCommandResult r =
+      runDynslamSplit({"run", d / "x.rawlog", "-o", d / "out", "--mode", "off"});
   expectHandledFault(r, 1, fs::path(depth).filename().string());
   EXPECT_FALSE(fs::exists(d / "out/trajectory.txt"));
 }

@@ -31,7 +31,7 @@ TEST(WorkerErrors, WorkQueueFlushRethrowsTheHandlersException) {
   } catch (const InputError& e) {
     EXPECT_EQ(e.file(), "frame.png");
   }
-  EXPECT_EQ(handled.load(), 2);        // item 3 was dropped after the failure
+  EXPECT_EQ(handled.load(), 2);         // item 3 was dropped after the failure
   EXPECT_THROW(q.push(4), InputError);  // a failed worker stays failed
   EXPECT_THROW(q.rethrowIfFailed(), InputError);
 }  // the destructor joins the worker without terminating

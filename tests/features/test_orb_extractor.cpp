@@ -84,8 +84,7 @@ float angleDiff(float a, float b) {
 }
 
 /// Index of the keypoint of `octave` nearest to p within `radius`, or -1.
-int nearestAtOctave(const std::vector<cv::KeyPoint>& kps, cv::Point2f p, int octave,
-                    float radius) {
+int nearestAtOctave(const std::vector<cv::KeyPoint>& kps, cv::Point2f p, int octave, float radius) {
   int best = -1;
   float best_d2 = radius * radius;
   for (size_t i = 0; i < kps.size(); ++i) {
@@ -207,8 +206,9 @@ TEST(OrbExtractor, RotationInvariantWithKnownRotation) {
   const Extraction a = extract(img, ex);
   const Extraction b = extract(rotated, ex);
   auto mapPoint = [&](cv::Point2f p) {
-    return cv::Point2f(float(M.at<double>(0, 0) * p.x + M.at<double>(0, 1) * p.y + M.at<double>(0, 2)),
-                       float(M.at<double>(1, 0) * p.x + M.at<double>(1, 1) * p.y + M.at<double>(1, 2)));
+    return cv::Point2f(
+        float(M.at<double>(0, 0) * p.x + M.at<double>(0, 1) * p.y + M.at<double>(0, 2)),
+        float(M.at<double>(1, 0) * p.x + M.at<double>(1, 1) * p.y + M.at<double>(1, 2)));
   };
   // Expected angle: the keypoint direction pushed through M's linear part.
   auto mapAngle = [&](float deg, double sign) {
@@ -279,9 +279,9 @@ TEST(DescriptorDistance, CountsDifferingBits) {
   // Mat overload on rows of a descriptor matrix (unaligned rows too).
   cv::Mat m(3, 33, CV_8UC1, cv::Scalar::all(0));
   cv::Mat rows = m.colRange(1, 33);  // 32-byte rows starting at an odd address
-  rows.at<uint8_t>(1, 5) = 0x33;      // 4 bits
-  rows.at<uint8_t>(2, 5) = 0x30;      // 2 bits, 2 shared with row 1
-  rows.at<uint8_t>(2, 31) = 0xF0;     // 4 bits
+  rows.at<uint8_t>(1, 5) = 0x33;     // 4 bits
+  rows.at<uint8_t>(2, 5) = 0x30;     // 2 bits, 2 shared with row 1
+  rows.at<uint8_t>(2, 31) = 0xF0;    // 4 bits
   EXPECT_EQ(descriptorDistance(rows.row(0).clone(), rows.row(1).clone()), 4);
   EXPECT_EQ(descriptorDistance(rows.row(1).clone(), rows.row(2).clone()), 6);
   EXPECT_EQ(descriptorDistance(rows.ptr<uint8_t>(1), rows.ptr<uint8_t>(2)), 6);

@@ -22,9 +22,9 @@ class Installed : public ::testing::Test {
   static void SetUpTestSuite() {
     tmp_ = new TempDir();
     prefix_ = *tmp_ / "prefix";
-    const SplitCommandResult r = runShellSplit(shellQuote(cmakeCommand()) + " --install " +
-                                               shellQuote(binaryDir()) + " --prefix " +
-                                               shellQuote(prefix_));
+    const SplitCommandResult r =
+        runShellSplit(shellQuote(cmakeCommand()) + " --install " + shellQuote(binaryDir()) +
+                      " --prefix " + shellQuote(prefix_));
     install_exit_ = r.exit_code;
     install_log_ = r.out + r.err;
     fs::create_directories(*tmp_ / "elsewhere");
@@ -59,15 +59,17 @@ std::string Installed::prefix_;
 int Installed::install_exit_ = -1;
 std::string Installed::install_log_;
 
-bool has(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
+bool has(const std::string& s, const std::string& part) {
+  return s.find(part) != std::string::npos;
+}
 
 }  // namespace
 
 TEST_F(Installed, BinaryConfigsAndVocabulary) {
   EXPECT_TRUE(fs::is_regular_file(prefix_ + "/bin/dynslam"));
   const std::string configs = prefix_ + "/share/dynslam/configs";
-  for (const char* f : {"dynslam.yaml", "tum_fr1.yaml", "tum_fr2.yaml", "tum_fr3.yaml",
-                        "orb_vocab_k10_L5.bin"}) {
+  for (const char* f :
+       {"dynslam.yaml", "tum_fr1.yaml", "tum_fr2.yaml", "tum_fr3.yaml", "orb_vocab_k10_L5.bin"}) {
     EXPECT_TRUE(fs::is_regular_file(configs + "/" + f)) << f;
     EXPECT_EQ(readText(configs + "/" + f), readText(sourceDir() + "/configs/" + f)) << f;
   }

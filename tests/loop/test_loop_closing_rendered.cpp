@@ -33,7 +33,8 @@ LoopRun runOn(const SyntheticData& data, std::size_t frames, bool close_loops) {
   cfg.loop.close_loops = close_loops;
   SlamSystem slam(cfg, data.camera());
   LoopRun run;
-  for (std::size_t i = 0; i < frames; ++i) run.tracked += slam.process(data.frame(i)).track.has_pose;
+  for (std::size_t i = 0; i < frames; ++i)
+    run.tracked += slam.process(data.frame(i)).track.has_pose;
   slam.finish();
   run.trajectory = slam.frameTrajectory();
   run.loops = slam.loopStats();

@@ -1,7 +1,7 @@
 // LoopCorrector on the synthetic loop (lib/loop/synthetic_loop.h): 30
 // keyframes on a circle whose poses drift by 0.5 deg of yaw and 1 cm of
-// height per keyframe (0.6 m at the end), closed between the last keyframe and the first. The loop pose
-// comes from RigidAligner on the keyframes' own data, as in the system.
+// height per keyframe (0.6 m at the end), closed between the last keyframe and the first. The loop
+// pose comes from RigidAligner on the keyframes' own data, as in the system.
 #include <gtest/gtest.h>
 
 #include <set>
@@ -68,11 +68,12 @@ TEST(LoopCorrector, CutsDriftByMoreThan80Percent) {
   s.pointError(map, pmax1, prms1);
   std::printf("keyframes: max %.3f -> %.3f m, rms %.3f -> %.3f m\n", max0, max1, rms0, rms1);
   std::printf("points:    max %.3f -> %.3f m, rms %.3f -> %.3f m\n", pmax0, pmax1, prms0, prms1);
-  std::printf("graph: %d nodes, %d edges (tree %d, covis %d, loop %d, new loop %d), %d iters, "
-              "err %.4g -> %.4g, merged %d fused %d, %.1f ms (optimise %.1f ms)\n",
-              st.keyframes, st.edges(), st.edges_spanning, st.edges_covisibility, st.edges_loop,
-              st.edges_new_loop, st.iterations, st.initial_sq_error, st.final_sq_error, st.merged,
-              st.fused, st.time_ms, st.optimize_ms);
+  std::printf(
+      "graph: %d nodes, %d edges (tree %d, covis %d, loop %d, new loop %d), %d iters, "
+      "err %.4g -> %.4g, merged %d fused %d, %.1f ms (optimise %.1f ms)\n",
+      st.keyframes, st.edges(), st.edges_spanning, st.edges_covisibility, st.edges_loop,
+      st.edges_new_loop, st.iterations, st.initial_sq_error, st.final_sq_error, st.merged, st.fused,
+      st.time_ms, st.optimize_ms);
 
   EXPECT_LT(max1, 0.2 * max0);
   EXPECT_LT(rms1, 0.2 * rms0);

@@ -88,7 +88,8 @@ TEST(CameraPose, NonOrthonormalRotationIsRepairedOnSet) {
 }
 
 TEST(Orthonormalized, SmallPerturbationStaysCloseToOriginal) {
-  const Eigen::Matrix3d Q = rotZ(-1.2) * Eigen::AngleAxisd(0.5, Eigen::Vector3d(1, 1, 0).normalized());
+  const Eigen::Matrix3d Q =
+      rotZ(-1.2) * Eigen::AngleAxisd(0.5, Eigen::Vector3d(1, 1, 0).normalized());
   Eigen::Matrix3d E;
   E << 1e-4, -2e-4, 0.5e-4, 3e-4, -1e-4, 2e-4, -1e-4, 1e-4, 2e-4;
   const CPose3D fixed = orthonormalized(poseFromMatrix(Q + E, {3, 2, 1}));

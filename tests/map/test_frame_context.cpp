@@ -30,7 +30,9 @@ std::shared_ptr<FrameContext> makeContext(const PinholeCamera& cam, double bf = 
   return ctx;
 }
 
-cv::KeyPoint kp(float x, float y, int octave = 0) { return cv::KeyPoint(x, y, 31.f, 0.f, 0.f, octave); }
+cv::KeyPoint kp(float x, float y, int octave = 0) {
+  return cv::KeyPoint(x, y, 31.f, 0.f, 0.f, octave);
+}
 
 /// Brown-Conrady forward model (OpenCV's k1 k2 p1 p2 k3), written out here so
 /// the library's undistortion is checked against the definition.
@@ -229,12 +231,14 @@ TEST(FeatureSet, FeaturesInAreaMatchesBruteForce) {
   for (std::size_t i = 0; i < fs->keys.size(); ++i) fs->dynamic.push_back(third(rng) ? 1 : 0);
   fs->finalize(cv::Mat());
 
-  struct Query { float x, y, r; int lo, hi; };
-  std::vector<Query> queries = {{320, 240, 15, -1, -1}, {5, 5, 12, -1, -1},
-                                {635, 475, 20, -1, -1}, {10, 10, 0.5f, -1, -1},
-                                {200, 100, 40, 2, 4},   {400, 300, 30, -1, 1},
-                                {100, 400, 25, 5, -1},  {-30, 240, 35, -1, -1},
-                                {700, 240, 50, -1, -1}, {320, 240, 1000, 7, 7}};
+  struct Query {
+    float x, y, r;
+    int lo, hi;
+  };
+  std::vector<Query> queries = {
+      {320, 240, 15, -1, -1}, {5, 5, 12, -1, -1},    {635, 475, 20, -1, -1}, {10, 10, 0.5f, -1, -1},
+      {200, 100, 40, 2, 4},   {400, 300, 30, -1, 1}, {100, 400, 25, 5, -1},  {-30, 240, 35, -1, -1},
+      {700, 240, 50, -1, -1}, {320, 240, 1000, 7, 7}};
   std::uniform_real_distribution<float> ur(1.f, 60.f);
   std::uniform_int_distribution<int> ulo(-1, 7);
   for (int i = 0; i < 200; ++i) {
@@ -270,15 +274,15 @@ TEST(FeatureSet, FeaturesInAreaMatchesBruteForce) {
 // side (fully inside one surface) the depth is kept, and a window that is
 // mostly holes gives none.
 TEST(DepthAt, DropsDepthOnDiscontinuitiesAndHoles) {
-  cv::Mat depth(40, 40, CV_16UC1, cv::Scalar(5000));                // 1 m
-  depth(cv::Rect(20, 0, 20, 40)).setTo(cv::Scalar(10000));          // 2 m right half
-  depth(cv::Rect(0, 30, 40, 10)).setTo(cv::Scalar(0));              // holes at the bottom
-  EXPECT_EQ(dynslam::depthAt(depth, {10.f, 10.f}, 5, 0.05), 5000);  // flat, 1 m
-  EXPECT_EQ(dynslam::depthAt(depth, {30.f, 10.f}, 5, 0.05), 10000); // flat, 2 m
-  EXPECT_EQ(dynslam::depthAt(depth, {19.f, 10.f}, 5, 0.05), 0);     // on the step
-  EXPECT_EQ(dynslam::depthAt(depth, {19.f, 10.f}, 1, 0.05), 5000);  // check disabled
-  EXPECT_EQ(dynslam::depthAt(depth, {10.f, 30.f}, 5, 0.05), 0);     // mostly holes
-  EXPECT_EQ(dynslam::depthAt(depth, {10.f, 35.f}, 5, 0.05), 0);     // no depth at all
+  cv::Mat depth(40, 40, CV_16UC1, cv::Scalar(5000));                 // 1 m
+  depth(cv::Rect(20, 0, 20, 40)).setTo(cv::Scalar(10000));           // 2 m right half
+  depth(cv::Rect(0, 30, 40, 10)).setTo(cv::Scalar(0));               // holes at the bottom
+  EXPECT_EQ(dynslam::depthAt(depth, {10.f, 10.f}, 5, 0.05), 5000);   // flat, 1 m
+  EXPECT_EQ(dynslam::depthAt(depth, {30.f, 10.f}, 5, 0.05), 10000);  // flat, 2 m
+  EXPECT_EQ(dynslam::depthAt(depth, {19.f, 10.f}, 5, 0.05), 0);      // on the step
+  EXPECT_EQ(dynslam::depthAt(depth, {19.f, 10.f}, 1, 0.05), 5000);   // check disabled
+  EXPECT_EQ(dynslam::depthAt(depth, {10.f, 30.f}, 5, 0.05), 0);      // mostly holes
+  EXPECT_EQ(dynslam::depthAt(depth, {10.f, 35.f}, 5, 0.05), 0);      // no depth at all
   // A gentle slope (1 % over the window) is kept.
   cv::Mat slope(20, 20, CV_16UC1);
   for (int y = 0; y < 20; ++y)

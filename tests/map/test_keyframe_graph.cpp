@@ -145,8 +145,10 @@ TEST(MapPoint, UpdateDescriptorPicksLeastMedianDistance) {
     auto fs = features(4, 100 + k);
     uint8_t* d = fs->descriptors.ptr<uint8_t>(2);
     const int block = k < 2 ? k : k - 1;
-    if (k == 2) setBits(d, 0, 0);
-    else setBits(d, 30 * block, 30 * block + 30);
+    if (k == 2)
+      setBits(d, 0, 0);
+    else
+      setBits(d, 30 * block, 30 * block + 30);
     kfs.push_back(map.createKeyFrame(k, 0.1 * k, k, fs, CameraPose()));
     if (!p) p = map.createMapPoint({0, 0, 2}, kfs[0]);
     observe(p, kfs.back(), 2);
@@ -172,7 +174,8 @@ TEST(MapPoint, NormalAndScaleDistances) {
   auto fs2 = std::make_shared<FeatureSet>(*fs);
   fs2->keys_un[1].octave = 2;
   KeyFrame* k0 = map.createKeyFrame(0, 0, 0, fs2, CameraPose());
-  KeyFrame* k1 = map.createKeyFrame(1, 0, 1, features(3), CameraPose(mrpt::poses::CPose3D(4, 0, 0, 0, 0, 0)));
+  KeyFrame* k1 =
+      map.createKeyFrame(1, 0, 1, features(3), CameraPose(mrpt::poses::CPose3D(4, 0, 0, 0, 0, 0)));
   MapPoint* p = map.createMapPoint({2, 0, 2}, k0);
   observe(p, k0, 1);
   observe(p, k1, 1);

@@ -28,8 +28,8 @@
 #include "testing/test_support.h"
 
 using namespace dynslam;
-using dynslam::test::TempDir;
 using dynslam::test::readText;
+using dynslam::test::TempDir;
 using dynslam::test::writeText;
 using mrpt::poses::CPose3D;
 
@@ -151,7 +151,8 @@ RGBDFrame renderFrame(const CPose3D& pose_wc, bool with_person) {
       bool box = false;
       double z = castRay(pose_wc, u, v, &box);
       if (with_person && kPerson.contains({u, v})) z = kPersonDepth;
-      if (std::isfinite(z)) f.depth.at<std::uint16_t>(v, u) = std::uint16_t(std::lround(z * kScale));
+      if (std::isfinite(z))
+        f.depth.at<std::uint16_t>(v, u) = std::uint16_t(std::lround(z * kScale));
       if (box) f.rgb.at<cv::Vec3b>(v, u) = {0, 128, 0};
     }
   }
@@ -214,13 +215,13 @@ TEST(FreeSpaceCarver, VotesSeenThroughConfirmedAndOccluded) {
   carver.addKeyframe(depth, CPose3D());
   const CPose3D id;
   const ColoredCloud pts = {
-      point(pixelPoint(id, 20, 20, 2.0)),    // wall at 3 m behind it: seen through
-      point(pixelPoint(id, 20, 20, 3.0)),    // on the wall: confirmed
-      point(pixelPoint(id, 20, 20, 3.06)),   // within max(5 cm, 3 % = 9 cm): confirmed
-      point(pixelPoint(id, 20, 20, 2.85)),   // 15 cm in front of the wall: seen through
-      point(pixelPoint(id, 20, 20, 2.95)),   // 5 cm in front: within margin, confirmed
-      point(pixelPoint(id, 120, 80, 2.0)),   // behind the near patch: occluded, no vote
-      point(pixelPoint(id, 120, 80, 1.0)),   // on the near patch: confirmed
+      point(pixelPoint(id, 20, 20, 2.0)),   // wall at 3 m behind it: seen through
+      point(pixelPoint(id, 20, 20, 3.0)),   // on the wall: confirmed
+      point(pixelPoint(id, 20, 20, 3.06)),  // within max(5 cm, 3 % = 9 cm): confirmed
+      point(pixelPoint(id, 20, 20, 2.85)),  // 15 cm in front of the wall: seen through
+      point(pixelPoint(id, 20, 20, 2.95)),  // 5 cm in front: within margin, confirmed
+      point(pixelPoint(id, 120, 80, 2.0)),  // behind the near patch: occluded, no vote
+      point(pixelPoint(id, 120, 80, 1.0)),  // on the near patch: confirmed
   };
   const auto v = carver.votes(pts);
   ASSERT_EQ(v.size(), pts.size());
@@ -266,7 +267,7 @@ TEST(FreeSpaceCarver, NoDepthOutsideImageOrDepthLimitsGiveNoVote) {
       point(pixelPoint(id, 50, 50, 2.0)),   // control: seen through
   };
   const ColoredCloud beyond = {point(pixelPoint(id, 50, 50, 4.5))};  // beyond max_depth
-  const ColoredCloud behind = {{0.1f, 0.1f, -2.0f, 0, 0, 0}};         // behind the camera
+  const ColoredCloud behind = {{0.1f, 0.1f, -2.0f, 0, 0, 0}};        // behind the camera
   const auto v = carver.votes(pts);
   for (int i = 0; i < 3; ++i) {
     EXPECT_EQ(v[i].through + v[i].confirmed, 0) << "point " << i;
@@ -308,8 +309,9 @@ TEST(FreeSpaceCarver, DynamicMaskedPixelsNeverConfirm) {
   FreeSpaceCarver carver(projector());
   carver.addKeyframe(constantDepth(2.0), CPose3D(), mask);
   const CPose3D id;
-  const auto v = carver.votes({point(pixelPoint(id, 30, 60, 2.0)), point(pixelPoint(id, 130, 60, 2.0)),
-                               point(pixelPoint(id, 30, 60, 1.0))});
+  const auto v =
+      carver.votes({point(pixelPoint(id, 30, 60, 2.0)), point(pixelPoint(id, 130, 60, 2.0)),
+                    point(pixelPoint(id, 30, 60, 1.0))});
   EXPECT_EQ(v[0].confirmed, 0);  // masked: no confirmation...
   EXPECT_EQ(v[0].dynamic, 1);    // ...but a dynamic vote at that depth
   EXPECT_EQ(v[1].confirmed, 1);
@@ -350,13 +352,13 @@ TEST(FreeSpaceCarver, RemovalRuleCountsDynamicVotesAndConfirmations) {
     return v;
   };
   EXPECT_FALSE(carver.removes(votes(0, 3, 0)));
-  EXPECT_TRUE(carver.removes(votes(0, 2, 0)));         // too few confirmations
+  EXPECT_TRUE(carver.removes(votes(0, 2, 0)));          // too few confirmations
   EXPECT_FALSE(carver.removes(votes(0, 2, 0), false));  // ...unless that rule is skipped
-  EXPECT_TRUE(carver.removes(votes(0, 3, 3)));   // 3 dynamic >= 1 x 3 confirmed
-  EXPECT_FALSE(carver.removes(votes(0, 4, 3)));  // outvoted by the confirmations
+  EXPECT_TRUE(carver.removes(votes(0, 3, 3)));          // 3 dynamic >= 1 x 3 confirmed
+  EXPECT_FALSE(carver.removes(votes(0, 4, 3)));         // outvoted by the confirmations
   EXPECT_TRUE(carver.removes(votes(0, 2, 3), false));
-  EXPECT_TRUE(carver.removes(votes(4, 3, 0)));   // free space still applies (4 > 3)
-  o.dynamic_ratio = 0;  // off
+  EXPECT_TRUE(carver.removes(votes(4, 3, 0)));  // free space still applies (4 > 3)
+  o.dynamic_ratio = 0;                          // off
   const FreeSpaceCarver no_dynamic(projector(), o);
   EXPECT_FALSE(no_dynamic.removes(votes(0, 1, 9), false));
   // With fewer keyframes than min_confirmations, all of them must confirm.
@@ -390,7 +392,8 @@ TEST(FreeSpaceCarver, PersonMissedByTwoMasksIsOutvotedByTheOtherTwo) {
   const CPose3D id;
   ColoredCloud him, wall;
   for (int v = person.y; v < person.br().y; v += 5) {
-    for (int u = person.x; u < person.br().x; u += 5) him.push_back(point(pixelPoint(id, u, v, 1.5)));
+    for (int u = person.x; u < person.br().x; u += 5)
+      him.push_back(point(pixelPoint(id, u, v, 1.5)));
   }
   for (int v = false_alarm.y; v < false_alarm.br().y; v += 5) {
     for (int u = false_alarm.x; u < false_alarm.br().x; u += 5) {
@@ -426,10 +429,10 @@ TEST(FreeSpaceCarver, ProjectionInvertsTheBackProjectorDistortion) {
     double u, v;
     ASSERT_TRUE(proj.project(pts[i].x, pts[i].y, pts[i].z, u, v));
     worst = std::max({worst, std::abs(u - pixels[i] % kW), std::abs(v - pixels[i] / kW)});
-    undistorted_worst = std::max(undistorted_worst,
-                                 std::abs(kF * pts[i].x / pts[i].z + kCx - pixels[i] % kW));
+    undistorted_worst =
+        std::max(undistorted_worst, std::abs(kF * pts[i].x / pts[i].z + kCx - pixels[i] % kW));
   }
-  EXPECT_LT(worst, 0.25);  // cv::undistortPoints iterates, ~0.13 px at the corners
+  EXPECT_LT(worst, 0.25);             // cv::undistortPoints iterates, ~0.13 px at the corners
   EXPECT_GT(undistorted_worst, 2.0);  // the distortion matters at this size
   // And the carver uses it: every pixel of the keyframe confirms itself.
   FreeSpaceCarver carver(bp);
@@ -524,8 +527,9 @@ TEST(FreeSpaceScene, DenseMapBuilderCarvesAfterTheVoxelGrid) {
     for (const auto& p : c) {
       double x, y, z;
       poses[0].inverseComposePoint(p.x, p.y, p.z, x, y, z);
-      n += std::abs(z - kPersonDepth) < 0.02 && kPerson.contains({int(std::lround(kF * x / z + kCx)),
-                                                                 int(std::lround(kF * y / z + kCy))});
+      n += std::abs(z - kPersonDepth) < 0.02 &&
+           kPerson.contains(
+               {int(std::lround(kF * x / z + kCx)), int(std::lround(kF * y / z + kCy))});
     }
     return n;
   };
@@ -637,10 +641,10 @@ TEST(CarvingConfig, DefaultsMatchTheDocumentedConfigFile) {
   const auto yaml = loadYamlFile(path);
   ASSERT_TRUE(yaml.has("map_export")) << path;
   for (const char* key :
-       {"min_depth", "max_depth", "pixel_stride", "mask_margin_px", "voxel_leaf",
-        "remove_outliers", "outlier_neighbours", "outlier_stddev", "carve_free_space",
-        "carve_min_views", "carve_ratio", "carve_margin_m", "carve_margin_rel",
-        "carve_dynamic_ratio", "carve_min_confirmations", "carve_window_px"}) {
+       {"min_depth", "max_depth", "pixel_stride", "mask_margin_px", "voxel_leaf", "remove_outliers",
+        "outlier_neighbours", "outlier_stddev", "carve_free_space", "carve_min_views",
+        "carve_ratio", "carve_margin_m", "carve_margin_rel", "carve_dynamic_ratio",
+        "carve_min_confirmations", "carve_window_px"}) {
     EXPECT_TRUE(yaml["map_export"].has(key)) << key << " undocumented in " << path;
   }
   const DenseMapOptions file = loadDenseMapOptions(path);
@@ -681,18 +685,30 @@ TEST(CarvingConfig, ValuesAreReadAndBadOnesRejectedNamingTheFile) {
   EXPECT_EQ(o.carving.min_confirmations, 2);
 
   const std::vector<std::pair<std::string, std::string>> bad = {
-      {"carve_free_space", "maybe"}, {"carve_free_space", "1"},
-      {"carve_min_views", "0"},      {"carve_min_views", "-2"},
-      {"carve_min_views", "2.5"},    {"carve_ratio", "-0.1"},
-      {"carve_ratio", ".nan"},       {"carve_ratio", ".inf"},
-      {"carve_ratio", "lots"},       {"carve_margin_m", "0"},
-      {"carve_margin_m", "-0.05"},   {"carve_margin_m", "2"},
-      {"carve_margin_rel", "-0.01"}, {"carve_margin_rel", "0.9"},
-      {"carve_window_px", "0"},      {"carve_window_px", "4"},
-      {"carve_window_px", "33"},     {"carve_window_px", "5.5"},
-      {"carve_dynamic_ratio", "-1"}, {"carve_dynamic_ratio", ".inf"},
-      {"carve_dynamic_ratio", "x"},  {"carve_min_confirmations", "-1"},
-      {"carve_min_confirmations", "1001"}, {"carve_min_confirmations", "1.5"},
+      {"carve_free_space", "maybe"},
+      {"carve_free_space", "1"},
+      {"carve_min_views", "0"},
+      {"carve_min_views", "-2"},
+      {"carve_min_views", "2.5"},
+      {"carve_ratio", "-0.1"},
+      {"carve_ratio", ".nan"},
+      {"carve_ratio", ".inf"},
+      {"carve_ratio", "lots"},
+      {"carve_margin_m", "0"},
+      {"carve_margin_m", "-0.05"},
+      {"carve_margin_m", "2"},
+      {"carve_margin_rel", "-0.01"},
+      {"carve_margin_rel", "0.9"},
+      {"carve_window_px", "0"},
+      {"carve_window_px", "4"},
+      {"carve_window_px", "33"},
+      {"carve_window_px", "5.5"},
+      {"carve_dynamic_ratio", "-1"},
+      {"carve_dynamic_ratio", ".inf"},
+      {"carve_dynamic_ratio", "x"},
+      {"carve_min_confirmations", "-1"},
+      {"carve_min_confirmations", "1001"},
+      {"carve_min_confirmations", "1.5"},
       {"carve_windows_px", "5"},  // typo: unknown key
   };
   for (const auto& [key, value] : bad) {
@@ -768,14 +784,15 @@ TEST(ExportCli, NoCarvingFlagKeepsTheWalkers) {
   const auto from_run = test::runDynslam({"export", dir / "run", "-o", dir / "run.ply", "--voxel",
                                           "0", "--no-outlier-removal", "--mask-margin", "0"});
   ASSERT_EQ(from_run.exit_code, 0) << from_run.output;
-  EXPECT_NE(from_run.output.find(dir / "run/config_used.yaml"), std::string::npos) << from_run.output;
+  EXPECT_NE(from_run.output.find(dir / "run/config_used.yaml"), std::string::npos)
+      << from_run.output;
   EXPECT_EQ(readPly(dir / "run.ply").size(), std::size_t(3 * kW * kH));
   // Exports with `--config NAME.yaml` holding `yaml`; returns the map's size.
   auto pointsWithConfig = [&](const std::string& name, const std::string& yaml) {
     writeText(dir / (name + ".yaml"), yaml);
     const auto r = test::runDynslam({"export", dir / "run", "-o", dir / (name + ".ply"), "--voxel",
-                                     "0", "--no-outlier-removal", "--mask-margin", "0",
-                                     "--config", dir / (name + ".yaml")});
+                                     "0", "--no-outlier-removal", "--mask-margin", "0", "--config",
+                                     dir / (name + ".yaml")});
     EXPECT_EQ(r.exit_code, 0) << r.output;
     return readPly(dir / (name + ".ply")).size();
   };
@@ -785,8 +802,8 @@ TEST(ExportCli, NoCarvingFlagKeepsTheWalkers) {
   // on), whatever run_info.yaml's config: names.
   std::filesystem::remove(dir / "run/config_used.yaml");
   writeText(dir / "runcfg.yaml", "map_export:\n  carve_free_space: false\n");
-  const auto gone = test::runDynslam({"export", dir / "run", "-o", dir / "gone.ply", "--voxel",
-                                      "0", "--no-outlier-removal", "--mask-margin", "0"});
+  const auto gone = test::runDynslam({"export", dir / "run", "-o", dir / "gone.ply", "--voxel", "0",
+                                      "--no-outlier-removal", "--mask-margin", "0"});
   ASSERT_EQ(gone.exit_code, 0) << gone.output;
   EXPECT_EQ(readPly(dir / "gone.ply").size(), std::size_t(3 * kW * kH - 720));
   // The confirmation count switched off: only the walkers go.
@@ -794,8 +811,8 @@ TEST(ExportCli, NoCarvingFlagKeepsTheWalkers) {
             std::size_t(3 * kW * kH - 240));
   // A bad carving value in --config fails before any work, naming the file.
   writeText(dir / "bad.yaml", "map_export:\n  carve_ratio: -1\n");
-  const auto bad = test::runDynslam({"export", dir / "run", "-o", dir / "bad.ply", "--config",
-                                     dir / "bad.yaml"});
+  const auto bad = test::runDynslam(
+      {"export", dir / "run", "-o", dir / "bad.ply", "--config", dir / "bad.yaml"});
   EXPECT_NE(bad.exit_code, 0);
   EXPECT_NE(bad.output.find("bad.yaml"), std::string::npos) << bad.output;
   EXPECT_FALSE(std::filesystem::exists(dir / "bad.ply"));

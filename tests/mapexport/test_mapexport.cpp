@@ -1,8 +1,8 @@
 #include <gtest/gtest.h>
 
-#include <assimp/Importer.hpp>
 #include <assimp/scene.h>
 #include <mrpt/poses/CPose3D.h>
+#include <assimp/Importer.hpp>
 
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgcodecs.hpp>
@@ -97,8 +97,10 @@ TEST(DenseMap, PlaneAtKnownPoseWithoutFiltering) {
   EXPECT_EQ(countColour(cloud, 0, 0, 255), std::size_t(kW * kH / 2));
   // Image left (red) = world +y for this pose.
   for (const auto& p : cloud) {
-    if (p.r == 255) EXPECT_GT(p.y, 2.0f);
-    else EXPECT_LT(p.y, 2.0f);
+    if (p.r == 255)
+      EXPECT_GT(p.y, 2.0f);
+    else
+      EXPECT_LT(p.y, 2.0f);
   }
 }
 
@@ -138,9 +140,9 @@ TEST(DenseMap, MaskedPixelsAndDilationMarginAreExcluded) {
 
 TEST(DenseMap, DepthLimitsAndStride) {
   RGBDFrame f = planeFrame();
-  f.depth(cv::Rect(0, 0, kW, 4)).setTo(0);                 // invalid
-  f.depth(cv::Rect(0, 4, kW, 4)).setTo(5.0 * 5000);        // beyond 4 m
-  f.depth(cv::Rect(0, 8, kW, 4)).setTo(0.2 * 5000);        // nearer than 0.3 m
+  f.depth(cv::Rect(0, 0, kW, 4)).setTo(0);           // invalid
+  f.depth(cv::Rect(0, 4, kW, 4)).setTo(5.0 * 5000);  // beyond 4 m
+  f.depth(cv::Rect(0, 8, kW, 4)).setTo(0.2 * 5000);  // nearer than 0.3 m
   DenseMapBuilder builder(smallCamera(), rawOptions());
   builder.addKeyframe(f, planePose());
   EXPECT_EQ(builder.build().size(), std::size_t(kW * (kH - 12)));
@@ -294,8 +296,8 @@ TEST(MapFiles, GlbRoundTripThroughAssimp) {
   EXPECT_EQ(meshes["dense_map"]->mPrimitiveTypes, unsigned(aiPrimitiveType_POINT));
   EXPECT_TRUE(meshes["dense_map"]->HasVertexColors(0));
   EXPECT_EQ(meshes["trajectory"]->mPrimitiveTypes, unsigned(aiPrimitiveType_LINE));
-  EXPECT_EQ(meshes["trajectory"]->mNumFaces, 2u);           // 3 keyframes
-  EXPECT_EQ(meshes["frustums"]->mNumFaces, 3u * 8u);        // 8 edges each
+  EXPECT_EQ(meshes["trajectory"]->mNumFaces, 2u);     // 3 keyframes
+  EXPECT_EQ(meshes["frustums"]->mNumFaces, 3u * 8u);  // 8 edges each
 }
 
 TEST(MapFiles, SparsePointsTextToPly) {
@@ -326,8 +328,10 @@ TEST(MapFiles, ErrorsNameTheFile) {
     }
   };
   expectMessageHas([&] { writeMapFile(dir / "map.xyz", map); }, "map.xyz");
-  expectMessageHas([&] { writeMapFile("/nonexistent_dir/map.ply", map); }, "/nonexistent_dir/map.ply");
-  expectMessageHas([&] { writeMapFile("/nonexistent_dir/map.glb", map); }, "/nonexistent_dir/map.glb");
+  expectMessageHas([&] { writeMapFile("/nonexistent_dir/map.ply", map); },
+                   "/nonexistent_dir/map.ply");
+  expectMessageHas([&] { writeMapFile("/nonexistent_dir/map.glb", map); },
+                   "/nonexistent_dir/map.glb");
   expectMessageHas([&] { readMapFile(dir / "missing.ply"); }, "missing.ply");
   writeText(dir / "garbage.glb", "not a gltf file");
   expectMessageHas([&] { readMapFile(dir / "garbage.glb"); }, "garbage.glb");
@@ -418,9 +422,13 @@ TEST(ExportRun, MissingFilesAndFramesAreNamed) {
 
   writeRun(dir, {2.0});
   std::filesystem::create_directories(dir / "run/dynamic_masks");
-  ASSERT_TRUE(cv::imwrite(dir / "run/dynamic_masks/2.000000.png", cv::Mat(5, 5, CV_8UC1, cv::Scalar(0))));
-  expectMessageHas([&] { exportRun(readRunDirectory(dir / "run"), PlaneSource(5), dir / "map.ply", rawOptions()); },
-                   "2.000000.png");
+  ASSERT_TRUE(
+      cv::imwrite(dir / "run/dynamic_masks/2.000000.png", cv::Mat(5, 5, CV_8UC1, cv::Scalar(0))));
+  expectMessageHas(
+      [&] {
+        exportRun(readRunDirectory(dir / "run"), PlaneSource(5), dir / "map.ply", rawOptions());
+      },
+      "2.000000.png");
 }
 
 TEST(ExportRun, FrameTimestampsAvoidLoadingOtherFrames) {

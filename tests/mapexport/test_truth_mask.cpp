@@ -28,8 +28,8 @@
 #include "testing/test_support.h"
 
 using namespace dynslam;
-using dynslam::test::TempDir;
 using dynslam::test::readText;
+using dynslam::test::TempDir;
 using dynslam::test::writeText;
 
 namespace {
@@ -85,7 +85,8 @@ DenseMapOptions rawOptions() {
 /// SEQ/masks/<t>.png.
 class SequenceSource : public dynslam::test::NamedFrameSource {
  public:
-  SequenceSource(std::string seq, std::size_t n) : NamedFrameSource(std::move(seq), n, testCamera()) {}
+  SequenceSource(std::string seq, std::size_t n)
+      : NamedFrameSource(std::move(seq), n, testCamera()) {}
   RGBDFrame load(std::size_t i) const override {
     RGBDFrame f = frameAt(double(i + 1), rgbPath(i));
     f.index = i;
@@ -103,7 +104,8 @@ void writeRun(const TempDir& dir, bool with_masks = true) {
   if (with_masks) {
     std::filesystem::create_directories(dir / "seq/masks");
     for (std::size_t i = 0; i < 5; ++i) {
-      ASSERT_TRUE(cv::imwrite(dir / ("seq/masks/" + SequenceSource::stem(i) + ".png"), truthMask()));
+      ASSERT_TRUE(
+          cv::imwrite(dir / ("seq/masks/" + SequenceSource::stem(i) + ".png"), truthMask()));
     }
   }
 }
@@ -225,15 +227,16 @@ TEST(ExportTruth, ReportHasTheKnownWalkerShare) {
   writeRun(dir);
   // Sparse map: 1 walker point, 3 static points.
   std::ostringstream sparse;
-  for (auto uvz : {std::array<double, 3>{45, 12, kWalkerDepth}, {10, 10, kBackground},
-                   {30, 40, kBackground}, {60, 2, kBackground}}) {
+  for (auto uvz : {std::array<double, 3>{45, 12, kWalkerDepth},
+                   {10, 10, kBackground},
+                   {30, 40, kBackground},
+                   {60, 2, kBackground}}) {
     const auto p = pixelPoint(uvz[0], uvz[1], uvz[2]);
     sparse << p[0] << " " << p[1] << " " << p[2] << " 1 2 3\n";
   }
   writeText(dir / "run/map_points.txt", sparse.str());
-  const ExportResult r =
-      exportRun(readRunDirectory(dir / "run"), SequenceSource(dir / "seq", 5), dir / "out/map.ply",
-                rawOptions());
+  const ExportResult r = exportRun(readRunDirectory(dir / "run"), SequenceSource(dir / "seq", 5),
+                                   dir / "out/map.ply", rawOptions());
   EXPECT_EQ(r.truth_masks_dir, dir / "seq/masks");
   ASSERT_TRUE(r.dense_truth);
   // Two keyframes, both at the identity: every pixel twice.
@@ -261,8 +264,8 @@ TEST(ExportTruth, ReportHasTheKnownWalkerShare) {
 TEST(ExportTruth, WithoutMasksFolderTheReportHasNoShare) {
   TempDir dir;
   writeRun(dir, /*with_masks=*/false);
-  const ExportResult r = exportRun(readRunDirectory(dir / "run"),
-                                   SequenceSource(dir / "seq", 5), dir / "map.ply", rawOptions());
+  const ExportResult r = exportRun(readRunDirectory(dir / "run"), SequenceSource(dir / "seq", 5),
+                                   dir / "map.ply", rawOptions());
   EXPECT_FALSE(r.dense_truth);
   EXPECT_TRUE(r.truth_masks_dir.empty());
   const std::string report = readText(dir / "map.export.json");
@@ -304,14 +307,16 @@ TEST(ExportTruth, BadMasksAreNamedAndNothingIsWritten) {
   {  // size mismatch
     TempDir dir;
     writeRun(dir);
-    ASSERT_TRUE(cv::imwrite(dir / "seq/masks/2.000000.png", cv::Mat(kH / 2, kW / 2, CV_8UC1, cv::Scalar(0))));
+    ASSERT_TRUE(cv::imwrite(dir / "seq/masks/2.000000.png",
+                            cv::Mat(kH / 2, kW / 2, CV_8UC1, cv::Scalar(0))));
     expectInputError([&] { attempt(dir); }, "masks/2.000000.png");
     nothingWritten(dir);
   }
   {  // colour instead of labels
     TempDir dir;
     writeRun(dir);
-    ASSERT_TRUE(cv::imwrite(dir / "seq/masks/2.000000.png", cv::Mat(kH, kW, CV_8UC3, cv::Scalar(0, 0, 0))));
+    ASSERT_TRUE(
+        cv::imwrite(dir / "seq/masks/2.000000.png", cv::Mat(kH, kW, CV_8UC3, cv::Scalar(0, 0, 0))));
     expectInputError([&] { attempt(dir); }, "8-bit single-channel");
     nothingWritten(dir);
   }
@@ -320,10 +325,12 @@ TEST(ExportTruth, BadMasksAreNamedAndNothingIsWritten) {
     writeRun(dir);
     ExportOptions eo;
     eo.truth_masks_dir = dir / "nope";
-    expectInputError([&] {
-      exportRun(readRunDirectory(dir / "run"), SequenceSource(dir / "seq", 5),
-                dir / "out/map.ply", rawOptions(), eo);
-    }, "nope");
+    expectInputError(
+        [&] {
+          exportRun(readRunDirectory(dir / "run"), SequenceSource(dir / "seq", 5),
+                    dir / "out/map.ply", rawOptions(), eo);
+        },
+        "nope");
   }
 }
 

@@ -14,11 +14,12 @@ TEST(ByteStream, WritesLittleEndian) {
   w.i64(-2);
   w.f32(1.0f);  // IEEE 754: 0x3f800000
   w.f64(-2.0);  // 0xc000000000000000
-  const std::string expected("\x04\x03\x02\x01"
-                             "\xfe\xff\xff\xff\xff\xff\xff\xff"
-                             "\x00\x00\x80\x3f"
-                             "\x00\x00\x00\x00\x00\x00\x00\xc0",
-                             24);
+  const std::string expected(
+      "\x04\x03\x02\x01"
+      "\xfe\xff\xff\xff\xff\xff\xff\xff"
+      "\x00\x00\x80\x3f"
+      "\x00\x00\x00\x00\x00\x00\x00\xc0",
+      24);
   EXPECT_EQ(w.buffer(), expected);
 }
 

@@ -60,7 +60,8 @@ void buildMap(Map& map) {
     mrpt::poses::CPose3D wc;
     for (int step = 0; step <= k * 7; ++step)
       wc = wc + mrpt::poses::CPose3D(0.01, 0.002 * step, 0, 0.031, -0.017, 0.023);
-    kfs.push_back(map.createKeyFrame(10 * k, 100.0 + 0.1 * k, 10 * k, features(k + 1), CameraPose(wc)));
+    kfs.push_back(
+        map.createKeyFrame(10 * k, 100.0 + 0.1 * k, 10 * k, features(k + 1), CameraPose(wc)));
   }
   for (int i = 0; i < 40; ++i) {
     MapPoint* p = map.createMapPoint({0.01 * i, -0.02 * i, 2.0 + 0.03 * i}, kfs[0]);
@@ -87,7 +88,8 @@ std::string readBytes(const std::string& path) {
 }
 
 void writeBytes(const std::string& path, const std::string& bytes) {
-  std::ofstream(path, std::ios::binary).write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  std::ofstream(path, std::ios::binary)
+      .write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
 }
 
 /// The error message of loading path (empty if it loads).
@@ -199,7 +201,8 @@ TEST_F(MapFile, LoadedMapEqualsTheOriginal) {
 TEST_F(MapFile, RejectsTruncatedFiles) {
   for (std::size_t keep : {bytes.size() - 1, bytes.size() / 2, std::size_t{20}}) {
     writeBytes(path, bytes.substr(0, keep));
-    EXPECT_NE(loadError(path).find("truncated"), std::string::npos) << keep << ": " << loadError(path);
+    EXPECT_NE(loadError(path).find("truncated"), std::string::npos)
+        << keep << ": " << loadError(path);
   }
   writeBytes(path, "");
   EXPECT_NE(loadError(path).find("not a dynslam map"), std::string::npos);

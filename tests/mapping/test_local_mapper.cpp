@@ -119,7 +119,8 @@ TEST(LocalMapper, CullsSpuriousPoints) {
   }
   RecordProperty("spurious", static_cast<int>(spurious_old));
   RecordProperty("spurious_alive", static_cast<int>(spurious_alive));
-  RecordProperty("genuine_alive_pct", static_cast<int>(100 * genuine_alive / std::max<std::size_t>(1, genuine.size())));
+  RecordProperty("genuine_alive_pct",
+                 static_cast<int>(100 * genuine_alive / std::max<std::size_t>(1, genuine.size())));
   ASSERT_GE(spurious_old, 30u);
   // Measured: 17 of 80 survive (21 %; the mapper's descriptor update gives
   // them their keypoint's descriptor back, and some are matched again at
@@ -173,12 +174,14 @@ TEST(MapBAProblem, FreeKeyFramesReturnToTheTruth) {
   double err_before = 0, err_after = 0;
   for (KeyFrame* kf : free) {
     kf->pose.set(kf->pose.wc() + mrpt::poses::CPose3D(0.03, -0.02, 0.02, 0.02, 0.01, 0));
-    err_before = std::max(err_before, centreDistance(kf->pose.wc(), data.trueRelativePose(kf->frame_index)));
+    err_before =
+        std::max(err_before, centreDistance(kf->pose.wc(), data.trueRelativePose(kf->frame_index)));
   }
   MapBAProblem problem(free, fixed);
   problem.writeBack(bundleAdjust(problem.problem(), cfg.mapper.ba));
   for (KeyFrame* kf : free)
-    err_after = std::max(err_after, centreDistance(kf->pose.wc(), data.trueRelativePose(kf->frame_index)));
+    err_after =
+        std::max(err_after, centreDistance(kf->pose.wc(), data.trueRelativePose(kf->frame_index)));
   RecordProperty("before_mm", static_cast<int>(1000 * err_before));
   RecordProperty("after_mm", static_cast<int>(1000 * err_after));
   EXPECT_GT(err_before, 0.03);

@@ -122,8 +122,10 @@ std::pair<int, int> score(const Frame& cur, const View& v,
   for (std::size_t k = 0; k < cur.points.size(); ++k) {
     if (!cur.points[k]) continue;
     auto it = scene_of.find(cur.points[k]);
-    if (it != scene_of.end() && it->second == v.point_of_key[k]) ++good;
-    else ++bad;
+    if (it != scene_of.end() && it->second == v.point_of_key[k])
+      ++good;
+    else
+      ++bad;
   }
   return {good, bad};
 }
@@ -320,8 +322,9 @@ TEST(FeatureMatcher, SearchForTriangulationFindsEpipolarPairs) {
   v2.fs->keys[kmoved].pt.y += 40.f;
   v2.fs->keys_un[kmoved].pt.y += 40.f;
   v2.fs->finalize(cv::Mat());  // rebuild the grid
-  ASSERT_GT(epipolarDistance(sc, v1.fs->keys_un[v1.key_of_point[moved]].pt,
-                             v2.fs->keys_un[kmoved].pt), 20.0);
+  ASSERT_GT(
+      epipolarDistance(sc, v1.fs->keys_un[v1.key_of_point[moved]].pt, v2.fs->keys_un[kmoved].pt),
+      20.0);
 
   Map map;
   KeyFrame* k1 = map.createKeyFrame(0, 0.0, 0, v1.fs, sc.pose1);
@@ -335,8 +338,10 @@ TEST(FeatureMatcher, SearchForTriangulationFindsEpipolarPairs) {
     EXPECT_TRUE(used2.insert(j).second) << "keypoint " << j << " of k2 used twice";
     EXPECT_LT(epipolarDistance(sc, v1.fs->keys_un[i].pt, v2.fs->keys_un[j].pt), 2.0);
     const int s = v1.point_of_key[i];
-    if (s >= 0 && s == v2.point_of_key[j]) ++good;
-    else ++bad;
+    if (s >= 0 && s == v2.point_of_key[j])
+      ++good;
+    else
+      ++bad;
     EXPECT_NE(s, moved);
   }
   RecordProperty("correct_pairs", good);
@@ -378,7 +383,8 @@ TEST(FeatureMatcher, FuseMergesDuplicatesAndFillsFreeKeypoints) {
   std::vector<MapPoint*> pts;
   KeyFrame* ka = keyFrameWithPoints(map, sc, v1, sc.pose1, &pts);
   KeyFrame* kb = map.createKeyFrame(1, 0.1, 1, v2.fs, sc.pose2);
-  KeyFrame* kc = map.createKeyFrame(2, 0.2, 2, v3.fs, CameraPose(CPose3D(-0.2, 0, 0.05, -0.05, 0, 0)));
+  KeyFrame* kc =
+      map.createKeyFrame(2, 0.2, 2, v3.fs, CameraPose(CPose3D(-0.2, 0, 0.05, -0.05, 0, 0)));
 
   // Scene point 3: a duplicate map point seen only by kb (1 observation, as
   // many as ka's): the projected point survives.
@@ -448,9 +454,9 @@ TEST(FeatureMatcher, FuseMergesDuplicatesAndFillsFreeKeypoints) {
 TEST(RotationHistogram, KeepsDominantBinDiscardsOutliers) {
   RotationHistogram h;
   for (int i = 0; i < 20; ++i) h.add(30.f + 10.f + 0.1f * i, 30.f, i);  // ~10 deg
-  h.add(100.f, 0.f, 100);   // 100 deg
-  h.add(0.f, 160.f, 101);   // -160 = 200 deg
-  h.add(300.f, 0.f, 102);   // 300 deg
+  h.add(100.f, 0.f, 100);                                               // 100 deg
+  h.add(0.f, 160.f, 101);                                               // -160 = 200 deg
+  h.add(300.f, 0.f, 102);                                               // 300 deg
   auto out = h.outliers();
   std::sort(out.begin(), out.end());
   EXPECT_EQ(out, (std::vector<int>{100, 101, 102}));
@@ -459,11 +465,11 @@ TEST(RotationHistogram, KeepsDominantBinDiscardsOutliers) {
 TEST(RotationHistogram, KeepsUpToThreeSignificantBins) {
   RotationHistogram h;
   int id = 0;
-  for (int i = 0; i < 20; ++i) h.add(10.f, 0.f, id++);   // 0..19 at 10 deg
-  for (int i = 0; i < 5; ++i) h.add(60.f, 0.f, id++);    // 20..24 at 60 deg: >= 10 % of 20
-  for (int i = 0; i < 3; ++i) h.add(0.f, 90.f, id++);    // 25..27 at 270 deg: >= 10 %
-  for (int i = 0; i < 2; ++i) h.add(180.f, 0.f, id++);   // 28..29: fourth bin, dropped
-  h.add(0.f, 200.f, 30);                                 // 160 deg: single, dropped
+  for (int i = 0; i < 20; ++i) h.add(10.f, 0.f, id++);  // 0..19 at 10 deg
+  for (int i = 0; i < 5; ++i) h.add(60.f, 0.f, id++);   // 20..24 at 60 deg: >= 10 % of 20
+  for (int i = 0; i < 3; ++i) h.add(0.f, 90.f, id++);   // 25..27 at 270 deg: >= 10 %
+  for (int i = 0; i < 2; ++i) h.add(180.f, 0.f, id++);  // 28..29: fourth bin, dropped
+  h.add(0.f, 200.f, 30);                                // 160 deg: single, dropped
   auto out = h.outliers();
   std::sort(out.begin(), out.end());
   EXPECT_EQ(out, (std::vector<int>{28, 29, 30}));
@@ -472,8 +478,8 @@ TEST(RotationHistogram, KeepsUpToThreeSignificantBins) {
 TEST(RotationHistogram, SmallBinsBelowTenPercentDropped) {
   RotationHistogram h;
   for (int i = 0; i < 30; ++i) h.add(5.f, 0.f, i);
-  h.add(90.f, 0.f, 30);   // 1 < 10 % of 30
-  h.add(91.f, 0.f, 31);   // same bin: 2 < 3
+  h.add(90.f, 0.f, 30);  // 1 < 10 % of 30
+  h.add(91.f, 0.f, 31);  // same bin: 2 < 3
   auto out = h.outliers();
   std::sort(out.begin(), out.end());
   EXPECT_EQ(out, (std::vector<int>{30, 31}));

@@ -102,7 +102,8 @@ BoxRoom::Hit BoxRoom::castPixel(std::size_t i, int u, int v) const {
   const Eigen::Vector3d o(pose.x(), pose.y(), pose.z());
   const Eigen::Vector3d ray_cam((u - cam.cx) / cam.fx, (v - cam.cy) / cam.fy, 1.0);
   Eigen::Vector3d d;
-  for (int r = 0; r < 3; ++r) d[r] = R(r, 0) * ray_cam[0] + R(r, 1) * ray_cam[1] + R(r, 2) * ray_cam[2];
+  for (int r = 0; r < 3; ++r)
+    d[r] = R(r, 0) * ray_cam[0] + R(r, 1) * ray_cam[1] + R(r, 2) * ray_cam[2];
   // d has unit camera-z component, so t is the depth.
   double t_wall = std::numeric_limits<double>::infinity();
   for (int k = 0; k < 3; ++k) {

@@ -35,10 +35,12 @@ struct BuiltRoom {
 BuiltRoom build(const BoxRoom& room, bool mask_person = false, bool truth = false,
                 DenseMapOptions dense = denseOptions()) {
   BuiltRoom b;
-  b.builder = std::make_unique<OccupancyMapBuilder>(BoxRoom::camera(), dense, OccupancyMapOptions{});
+  b.builder =
+      std::make_unique<OccupancyMapBuilder>(BoxRoom::camera(), dense, OccupancyMapOptions{});
   for (std::size_t i = 0; i < room.size(); ++i) {
     const cv::Mat person = room.truthMask(i);
-    b.builder->addKeyframe(room.frame(i), room.pose(i), mask_person ? cv::Mat(person > 0) : cv::Mat(),
+    b.builder->addKeyframe(room.frame(i), room.pose(i),
+                           mask_person ? cv::Mat(person > 0) : cv::Mat(),
                            truth ? person : cv::Mat());
   }
   b.builder->build();
@@ -266,7 +268,8 @@ TEST(BoxRoomOctoMap, MaskedPersonIsLeftOutAndSweptVolumeCountsThem) {
   const auto& tk = kept.builder->tree();
   const double reach = tk.getResolution() * std::sqrt(3.0) / 2 + 1e-3;
   std::size_t near_person = 0;
-  for (const auto& k : occupiedCells(tk)) near_person += room.person.surfaceDistance(centreOf(tk, k)) < reach;
+  for (const auto& k : occupiedCells(tk))
+    near_person += room.person.surfaceDistance(centreOf(tk, k)) < reach;
   EXPECT_GT(near_person, 100u);
   EXPECT_LE(share_kept->walker_points, near_person);
   EXPECT_GE(share_kept->walker_points, near_person * 8 / 10);

@@ -54,7 +54,8 @@ class OccupancyExportCli : public ::testing::Test {
     }
     writeText(seq + "/rgb.txt", rgb);
     writeText(seq + "/depth.txt", depth);
-    writeText(d / "run/run_info.yaml", "input: " + seq + "\ncamera_config: " + (d / "cam.yaml") + "\n");
+    writeText(d / "run/run_info.yaml",
+              "input: " + seq + "\ncamera_config: " + (d / "cam.yaml") + "\n");
     writeTumTrajectory(d / "run/keyframes.txt", kfs);
     writeText(d / "cfg.yaml", "map_export:\n  max_depth: 6.0\n");
   }
@@ -62,8 +63,10 @@ class OccupancyExportCli : public ::testing::Test {
     delete scratch_;
     scratch_ = nullptr;
   }
-  static std::vector<std::string> args(const std::string& out, std::vector<std::string> extra = {}) {
-    std::vector<std::string> a = {"export", *scratch_ / "run", "-o", out, "--config", *scratch_ / "cfg.yaml"};
+  static std::vector<std::string> args(const std::string& out,
+                                       std::vector<std::string> extra = {}) {
+    std::vector<std::string> a = {"export", *scratch_ / "run", "-o",
+                                  out,      "--config",        *scratch_ / "cfg.yaml"};
     a.insert(a.end(), extra.begin(), extra.end());
     return a;
   }
@@ -73,7 +76,8 @@ class OccupancyExportCli : public ::testing::Test {
     if (!std::regex_search(json, m, std::regex("\"" + key + "\": (-?[0-9.eE+-]+)"))) return -1;
     return std::stod(m[1]);
   }
-  static void expectOneLineError(const test::SplitCommandResult& r, int code, const std::string& what) {
+  static void expectOneLineError(const test::SplitCommandResult& r, int code,
+                                 const std::string& what) {
     EXPECT_EQ(r.exit_code, code) << r.err;
     std::vector<std::string> errors;
     std::istringstream in(r.err);
@@ -93,7 +97,8 @@ TEST_F(OccupancyExportCli, OctoMapWithReportAndPersonMaskedOrKept) {
   // The reference: true masks and "groundtruth" poses (here the keyframes'
   // own, written out, so it must equal the run's map).
   writeTumTrajectory(out / "gt.txt", readTumTrajectory(*scratch_ / "run/keyframes.txt"));
-  const auto ref = test::runDynslam(args(out / "ref.bt", {"--truth-as-masks", "--groundtruth", out / "gt.txt"}));
+  const auto ref =
+      test::runDynslam(args(out / "ref.bt", {"--truth-as-masks", "--groundtruth", out / "gt.txt"}));
   ASSERT_EQ(ref.exit_code, 0) << ref.output;
   const auto r = test::runDynslam(args(out / "map.bt", {"--compare", out / "ref.bt"}));
   ASSERT_EQ(r.exit_code, 0) << r.output;
@@ -109,14 +114,15 @@ TEST_F(OccupancyExportCli, OctoMapWithReportAndPersonMaskedOrKept) {
   EXPECT_EQ(jsonNumber(report, "map_share_in_reference"), 1) << report;
   // People kept: their cells are in the map, in the swept volume, and not
   // in the reference.
-  const auto kept = test::runDynslam(args(out / "kept.bt", {"--no-masks", "--compare", out / "ref.bt"}));
+  const auto kept =
+      test::runDynslam(args(out / "kept.bt", {"--no-masks", "--compare", out / "ref.bt"}));
   ASSERT_EQ(kept.exit_code, 0) << kept.output;
   const std::string kept_report = test::readText(out / "kept.export.json");
   EXPECT_GT(jsonNumber(kept_report, "walker_cells"), 100) << kept_report;
   EXPECT_LT(jsonNumber(kept_report, "map_share_in_reference"), 0.99) << kept_report;
   // And it renders.
-  const auto png = test::runDynslam({"render", out / "map.bt", "-o", out / "map.png", "--width", "160",
-                                     "--height", "120"});
+  const auto png = test::runDynslam(
+      {"render", out / "map.bt", "-o", out / "map.png", "--width", "160", "--height", "120"});
   ASSERT_EQ(png.exit_code, 0) << png.output;
   EXPECT_FALSE(cv::imread(out / "map.png").empty());
 }
@@ -130,7 +136,7 @@ TEST_F(OccupancyExportCli, GridPairAndReport) {
   // The room is 4 x 3 m: 80 x 60 cells plus margins (level x = world x).
   EXPECT_NEAR(img.cols, 82, 2);
   EXPECT_NEAR(img.rows, 62, 2);
-  EXPECT_GT(cv::countNonZero(img == 0), 250);    // walls: 2 x (80 + 60) cells
+  EXPECT_GT(cv::countNonZero(img == 0), 250);     // walls: 2 x (80 + 60) cells
   EXPECT_GT(cv::countNonZero(img == 254), 3000);  // floor
   const std::string report = test::readText(out / "grid.export.json");
   EXPECT_EQ(jsonNumber(report, "max_height_above_floor"), 1.0);
@@ -140,12 +146,14 @@ TEST_F(OccupancyExportCli, GridPairAndReport) {
 
 TEST_F(OccupancyExportCli, BadArgumentsAndUnwritableOutputsWriteNothing) {
   TempDir out;
-  expectOneLineError(test::runDynslamSplit(args(out / "a.bt", {"--resolution", "0"})), 2, "resolution");
-  expectOneLineError(test::runDynslamSplit(args(out / "a.yaml", {"--floor-height", "1.5", "--robot-height", "1.0"})),
+  expectOneLineError(test::runDynslamSplit(args(out / "a.bt", {"--resolution", "0"})), 2,
+                     "resolution");
+  expectOneLineError(test::runDynslamSplit(
+                         args(out / "a.yaml", {"--floor-height", "1.5", "--robot-height", "1.0"})),
                      2, "grid_floor_height");
   writeText(out / "bad.yaml", "occupancy_map:\n  grid_robot_height: 0.0\n");
-  expectOneLineError(test::runDynslamSplit({"export", *scratch_ / "run", "-o", out / "a.yaml", "--config",
-                                            out / "bad.yaml"}),
+  expectOneLineError(test::runDynslamSplit({"export", *scratch_ / "run", "-o", out / "a.yaml",
+                                            "--config", out / "bad.yaml"}),
                      1, "bad.yaml");
   writeText(out / "file", "x");
   expectOneLineError(test::runDynslamSplit(args(out / "file/a.bt")), 1, "file");

@@ -45,7 +45,9 @@ const OccupancyMapBuilder& roomMap() {
   return *b;
 }
 
-bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
+bool contains(const std::string& s, const std::string& part) {
+  return s.find(part) != std::string::npos;
+}
 
 /// "key: value" lines of a YAML file (comments skipped): the map_server
 /// fields are flat scalars or one flow list.
@@ -70,7 +72,10 @@ TEST(OctoMapFile, OctomapToolsAndTheLibraryReadIt) {
   // Debian's octomap-tools (installed by scripts/install-deps.sh).
   EXPECT_EQ(std::system(("bt2vrml " + (d / "room.bt") + " > /dev/null").c_str()), 0);
   EXPECT_GT(fs::file_size(d / "room.bt.wrl"), 1000u);
-  EXPECT_EQ(std::system(("convert_octree " + (d / "room.bt") + " " + (d / "room.ot") + " > /dev/null").c_str()), 0);
+  EXPECT_EQ(
+      std::system(
+          ("convert_octree " + (d / "room.bt") + " " + (d / "room.ot") + " > /dev/null").c_str()),
+      0);
   EXPECT_TRUE(fs::exists(d / "room.ot"));
   // octomap's reader: the same occupied cells.
   const auto back = readOctoMapFile(d / "room.bt");
@@ -117,8 +122,8 @@ TEST(MapServerFiles, PgmAndYamlAsMapServerReadsThem) {
   g.origin_x = -1.25;
   g.origin_y = 2.5;
   g.cells.assign(12, OccupancyGrid2D::kUnknown);
-  g.cells[0] = OccupancyGrid2D::kOccupied;       // (0, 0): bottom-left
-  g.cells[1 * 4 + 2] = OccupancyGrid2D::kFree;   // (2, 1)
+  g.cells[0] = OccupancyGrid2D::kOccupied;          // (0, 0): bottom-left
+  g.cells[1 * 4 + 2] = OccupancyGrid2D::kFree;      // (2, 1)
   g.cells[2 * 4 + 3] = OccupancyGrid2D::kOccupied;  // (3, 2): top-right
   LevelFrame level;
   level.floor_height = 0.25;
@@ -127,7 +132,7 @@ TEST(MapServerFiles, PgmAndYamlAsMapServerReadsThem) {
   ASSERT_EQ(img.type(), CV_8UC1);
   ASSERT_EQ(img.cols, 4);
   ASSERT_EQ(img.rows, 3);
-  EXPECT_EQ(img.at<std::uint8_t>(2, 0), 0);    // image bottom row = lowest y
+  EXPECT_EQ(img.at<std::uint8_t>(2, 0), 0);  // image bottom row = lowest y
   EXPECT_EQ(img.at<std::uint8_t>(0, 3), 0);
   EXPECT_EQ(img.at<std::uint8_t>(1, 2), 254);
   EXPECT_EQ(img.at<std::uint8_t>(0, 0), 205);
@@ -145,7 +150,8 @@ TEST(MapServerFiles, PgmAndYamlAsMapServerReadsThem) {
 }
 
 TEST(OccupancyConfig, ShippedConfigHoldsTheDefaults) {
-  const OccupancyMapOptions shipped = loadOccupancyOptions(test::sourceDir() + "/configs/dynslam.yaml");
+  const OccupancyMapOptions shipped =
+      loadOccupancyOptions(test::sourceDir() + "/configs/dynslam.yaml");
   const OccupancyMapOptions defaults;
   forEachOccupancyOption(shipped, [&](const char* key, const auto& value) {
     bool same = false;
@@ -154,17 +160,20 @@ TEST(OccupancyConfig, ShippedConfigHoldsTheDefaults) {
     });
     EXPECT_TRUE(same) << key;
   });
-  EXPECT_EQ(occupancyOptionKeys(),
-            "resolution, prob_hit, prob_miss, floor_min_area, grid_floor_height, grid_robot_height");
+  EXPECT_EQ(
+      occupancyOptionKeys(),
+      "resolution, prob_hit, prob_miss, floor_min_area, grid_floor_height, grid_robot_height");
 }
 
 TEST(OccupancyConfig, EveryBadValueIsRejectedNamingFileAndKey) {
   TempDir d;
   const std::vector<std::pair<std::string, std::string>> bad = {
-      {"resolution", "0"},         {"resolution", "-0.05"},   {"resolution", "0.0001"},
-      {"resolution", "abc"},       {"prob_hit", "0.4"},       {"prob_hit", "1"},
-      {"prob_miss", "0.6"},        {"prob_miss", "0"},        {"floor_min_area", "0"},
-      {"grid_floor_height", "1.5"}, {"grid_robot_height", "0.05"}, {"no_such_key", "1"}};
+      {"resolution", "0"},           {"resolution", "-0.05"},
+      {"resolution", "0.0001"},      {"resolution", "abc"},
+      {"prob_hit", "0.4"},           {"prob_hit", "1"},
+      {"prob_miss", "0.6"},          {"prob_miss", "0"},
+      {"floor_min_area", "0"},       {"grid_floor_height", "1.5"},
+      {"grid_robot_height", "0.05"}, {"no_such_key", "1"}};
   for (const auto& [key, value] : bad) {
     const std::string path = d / "bad.yaml";
     writeText(path, "occupancy_map:\n  " + key + ": " + value + "\n");

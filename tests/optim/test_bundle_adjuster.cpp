@@ -148,9 +148,8 @@ TEST(BundleAdjuster, PointBehindCameraIsOutlierAndHarmless) {
   // Observation 0 now claims a pixel of a point moved behind its camera.
   const int j = p.observations[0].point;
   const auto T_wc = p.keyframes[p.observations[0].keyframe].pose_wc;
-  const mrpt::math::TPoint3D pc = T_wc.inverseComposePoint(
-      mrpt::math::TPoint3D(p.points[j].position.x(), p.points[j].position.y(),
-                           p.points[j].position.z()));
+  const mrpt::math::TPoint3D pc = T_wc.inverseComposePoint(mrpt::math::TPoint3D(
+      p.points[j].position.x(), p.points[j].position.y(), p.points[j].position.z()));
   const mrpt::math::TPoint3D pw = T_wc.composePoint(mrpt::math::TPoint3D(-pc.x, -pc.y, -pc.z));
   BAObservation o = p.observations[0];
   BAPoint behind;

@@ -112,8 +112,8 @@ void checkCostJacobians() {
   const mrpt::poses::CPose3D T_cw(0.1, -0.2, 3.5, 0.2, -0.1, 0.15);
   auto x = blockOf(T_cw);
   Eigen::Vector3d pw(0.2, 0.3, 0.5);
-  const Eigen::Matrix<double, N, 1> measured =
-      optim::predict<N>(cam, optim::toRigid(T_cw) * pw) + Eigen::Matrix<double, N, 1>::Constant(2.0);
+  const Eigen::Matrix<double, N, 1> measured = optim::predict<N>(cam, optim::toRigid(T_cw) * pw) +
+                                               Eigen::Matrix<double, N, 1>::Constant(2.0);
   const optim::ReprojectionCost<N> cost(cam, measured, 0.64);
   const optim::LeftSE3Manifold m;
 
@@ -123,7 +123,8 @@ void checkCostJacobians() {
   Eigen::Matrix<double, N, 3, Eigen::RowMajor> Jpoint;
   double* jac[2] = {Jpose.data(), Jpoint.data()};
   ASSERT_TRUE(cost.Evaluate(params, r.data(), jac));
-  EXPECT_LT((r - 0.8 * (optim::predict<N>(cam, optim::toRigid(T_cw) * pw) - measured)).norm(), 1e-12);
+  EXPECT_LT((r - 0.8 * (optim::predict<N>(cam, optim::toRigid(T_cw) * pw) - measured)).norm(),
+            1e-12);
   EXPECT_EQ(Jpose.col(6).norm(), 0.0);  // the "lifted" column (ba_residuals.h)
 
   auto evalAt = [&](const double* pose, const double* point) {
@@ -140,14 +141,16 @@ void checkCostJacobians() {
     m.Plus(x.data(), d.data(), xp.data());
     d[k] = -h;
     m.Plus(x.data(), d.data(), xm.data());
-    const Eigen::Matrix<double, N, 1> num = (evalAt(xp.data(), pw.data()) - evalAt(xm.data(), pw.data())) / (2 * h);
+    const Eigen::Matrix<double, N, 1> num =
+        (evalAt(xp.data(), pw.data()) - evalAt(xm.data(), pw.data())) / (2 * h);
     EXPECT_LT((num - Jpose.col(k)).norm(), 1e-5 * (1.0 + num.norm())) << "pose " << k;
   }
   for (int k = 0; k < 3; ++k) {
     Eigen::Vector3d pp = pw, pm = pw;
     pp[k] += h;
     pm[k] -= h;
-    const Eigen::Matrix<double, N, 1> num = (evalAt(x.data(), pp.data()) - evalAt(x.data(), pm.data())) / (2 * h);
+    const Eigen::Matrix<double, N, 1> num =
+        (evalAt(x.data(), pp.data()) - evalAt(x.data(), pm.data())) / (2 * h);
     EXPECT_LT((num - Jpoint.col(k)).norm(), 1e-5 * (1.0 + num.norm())) << "point " << k;
   }
 }

@@ -114,8 +114,8 @@ TEST(PoseOptimizer, PointsBehindCameraAreOutliers) {
   const auto& T = scene.true_wc;
   for (int i = 0; i < 5; ++i) {
     auto& o = scene.obs[i];
-    const mrpt::math::TPoint3D pc =
-        T.inverseComposePoint(mrpt::math::TPoint3D(o.point_world.x(), o.point_world.y(), o.point_world.z()));
+    const mrpt::math::TPoint3D pc = T.inverseComposePoint(
+        mrpt::math::TPoint3D(o.point_world.x(), o.point_world.y(), o.point_world.z()));
     const mrpt::math::TPoint3D pw = T.composePoint(mrpt::math::TPoint3D(-pc.x, -pc.y, -pc.z));
     o.point_world = Eigen::Vector3d(pw.x, pw.y, pw.z);
   }

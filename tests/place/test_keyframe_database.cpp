@@ -34,7 +34,8 @@ struct RealDatabase {
   RealDatabase() : db(test::shippedVocabulary().words()) {
     for (long f = 0; f <= 660; f += 60) {
       kfs.push_back(makeKeyFrame(f));
-      db.add(kfs.back().get(), test::shippedVocabulary().transform(test::rpyDescriptors(static_cast<int>(f))));
+      db.add(kfs.back().get(),
+             test::shippedVocabulary().transform(test::rpyDescriptors(static_cast<int>(f))));
     }
   }
   KeyFrame* kf(long frame) { return kfs[static_cast<std::size_t>(frame / 60)].get(); }

@@ -9,7 +9,9 @@ using namespace dynslam::test;
 namespace fs = std::filesystem;
 
 namespace {
-bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
+bool contains(const std::string& s, const std::string& part) {
+  return s.find(part) != std::string::npos;
+}
 std::string people(const std::string& name) { return sharedDir() + "/data/people/" + name; }
 }  // namespace
 
@@ -38,8 +40,9 @@ TEST(VocabCli, BadInputsExitNonZeroAndNameThePath) {
   EXPECT_EQ(r.exit_code, 1) << r.output;
   EXPECT_TRUE(contains(r.output, "does not exist")) << r.output;
 
-  writeText(d / "junk.bin", "this is not a vocabulary, but it is long enough for a header "
-                            "to be read from it without running out of bytes");
+  writeText(d / "junk.bin",
+            "this is not a vocabulary, but it is long enough for a header "
+            "to be read from it without running out of bytes");
   r = runDynslam({"vocab", "info", d / "junk.bin"});
   EXPECT_EQ(r.exit_code, 1) << r.output;
   EXPECT_TRUE(contains(r.output, d / "junk.bin")) << r.output;
@@ -51,6 +54,8 @@ TEST(VocabCli, UsageErrorsExitWith2) {
   TempDir d;
   EXPECT_EQ(runDynslam({"vocab"}).exit_code, 2);
   EXPECT_EQ(runDynslam({"vocab", "train", people("bus.jpg")}).exit_code, 2);  // no -o
-  EXPECT_EQ(runDynslam({"vocab", "train", people("bus.jpg"), "-o", d / "v.bin", "--k", "1"}).exit_code, 2);
+  EXPECT_EQ(
+      runDynslam({"vocab", "train", people("bus.jpg"), "-o", d / "v.bin", "--k", "1"}).exit_code,
+      2);
   EXPECT_TRUE(listFiles(d.path()).empty());
 }

@@ -38,7 +38,8 @@ FakeSequence makeFakeSequence(const std::string& root, int frames, bool with_gro
     cv::Mat rgb(48, 64, CV_8UC3), depth(48, 64, CV_16UC1);
     for (int y = 0; y < 48; ++y)
       for (int x = 0; x < 64; ++x) {
-        rgb.at<cv::Vec3b>(y, x) = cv::Vec3b(uchar(x * 4 + k), uchar(y * 5), uchar((x * y + 7 * k) & 255));
+        rgb.at<cv::Vec3b>(y, x) =
+            cv::Vec3b(uchar(x * 4 + k), uchar(y * 5), uchar((x * y + 7 * k) & 255));
         depth.at<uint16_t>(y, x) = uint16_t(((y * 64 + x) * 21 + k * 1000) % 65536);
       }
     depth.at<uint16_t>(0, 0) = 0;

@@ -24,8 +24,7 @@ struct FakeSequence {
 
 /// Writes `frames` RGB-D pairs into root/name (depth 1 ms after RGB), a
 /// groundtruth.txt when with_groundtruth, and root/camera.yaml.
-FakeSequence makeFakeSequence(const std::string& root, int frames = 3,
-                              bool with_groundtruth = true,
+FakeSequence makeFakeSequence(const std::string& root, int frames = 3, bool with_groundtruth = true,
                               const std::string& name = "seq");
 
 /// Rewrites dir/rgb.txt or dir/depth.txt from explicit lines.

@@ -33,8 +33,8 @@ void expectOneErrorLine(const CommandResult& r, const std::string& must_contain)
 TEST(ConvertCli, HelpDocumentsOptions) {
   const CommandResult r = runDynslam({"convert", "--help"});
   EXPECT_EQ(r.exit_code, 0) << r.output;
-  for (const char* opt : {"TUM_DIR", "OUT.rawlog", "--config", "--max-frames", "_Images",
-                          "_groundtruth.txt"})
+  for (const char* opt :
+       {"TUM_DIR", "OUT.rawlog", "--config", "--max-frames", "_Images", "_groundtruth.txt"})
     EXPECT_TRUE(contains(r.output, opt)) << opt << "\n" << r.output;
 }
 
@@ -50,8 +50,8 @@ TEST(ConvertCli, UsageErrorsExitWith2) {
 TEST(ConvertCli, ConvertsFakeSequence) {
   TempDir d;
   const FakeSequence s = makeFakeSequence(d.path(), 3);
-  const CommandResult r = runDynslam(
-      {"convert", s.dir, d / "f.rawlog", "--config", s.config, "--max-frames", "2"});
+  const CommandResult r =
+      runDynslam({"convert", s.dir, d / "f.rawlog", "--config", s.config, "--max-frames", "2"});
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_TRUE(contains(r.output, "2 frames")) << r.output;
   EXPECT_EQ(RawlogSource(d / "f.rawlog").size(), 2u);
@@ -71,8 +71,7 @@ TEST(ConvertCli, MalformedListLine) {
   const FakeSequence s = makeFakeSequence(d.path(), 3);
   writeList(s.dir + "/rgb.txt", {"# c", s.rgb_files[0], "1305031229.6 " + s.rgb_files[1]});
   fs::create_directories(d / "out");
-  const CommandResult r =
-      runDynslam({"convert", s.dir, d / "out/x.rawlog", "--config", s.config});
+  const CommandResult r = runDynslam({"convert", s.dir, d / "out/x.rawlog", "--config", s.config});
   expectOneErrorLine(r, s.dir + "/rgb.txt:2:");
   EXPECT_TRUE(listEntries(d / "out").empty());
 }
@@ -82,8 +81,7 @@ TEST(ConvertCli, DepthNot16BitMidSequence) {
   const FakeSequence s = makeFakeSequence(d.path(), 3);
   cv::imwrite(s.dir + "/" + s.depth_files[2], cv::Mat(48, 64, CV_8UC1, cv::Scalar(3)));
   fs::create_directories(d / "out");
-  const CommandResult r =
-      runDynslam({"convert", s.dir, d / "out/x.rawlog", "--config", s.config});
+  const CommandResult r = runDynslam({"convert", s.dir, d / "out/x.rawlog", "--config", s.config});
   expectOneErrorLine(r, s.dir + "/" + s.depth_files[2] + ": depth image must be 16-bit");
   EXPECT_TRUE(listEntries(d / "out").empty());
 }
@@ -93,8 +91,7 @@ TEST(ConvertCli, BadGroundtruth) {
   const FakeSequence s = makeFakeSequence(d.path(), 2);
   writeText(s.dir + "/groundtruth.txt", "1305031229.5 0 0 0 0 0 0 0\n");
   fs::create_directories(d / "out");
-  const CommandResult r =
-      runDynslam({"convert", s.dir, d / "out/x.rawlog", "--config", s.config});
+  const CommandResult r = runDynslam({"convert", s.dir, d / "out/x.rawlog", "--config", s.config});
   expectOneErrorLine(r, s.dir + "/groundtruth.txt:1:");
   EXPECT_TRUE(listEntries(d / "out").empty());
 }

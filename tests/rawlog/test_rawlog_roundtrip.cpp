@@ -130,9 +130,8 @@ TEST(Convert, MaxFramesAndOverwrite) {
   EXPECT_EQ(convertTumToRawlog(s.dir, out, quietWith(s, 2)).frames, 2u);
   EXPECT_EQ(RawlogSource(out).size(), 2u);
   EXPECT_EQ(listEntries(rawlogImagesDir(out)).size(), 4u);  // old images replaced
-  EXPECT_EQ(listEntries(d.path()),
-            (std::vector<std::string>{"camera.yaml", "o.rawlog", "o_Images",
-                                      "o_groundtruth.txt", "seq"}));
+  EXPECT_EQ(listEntries(d.path()), (std::vector<std::string>{"camera.yaml", "o.rawlog", "o_Images",
+                                                             "o_groundtruth.txt", "seq"}));
 }
 
 TEST(Convert, NoGroundtruthNoSidecar) {
@@ -171,11 +170,11 @@ TEST(Convert, FailureKeepsPreviousOutput) {
 TEST(Convert, RejectsBadOutputPath) {
   TempDir d;
   const FakeSequence s = makeFakeSequence(d.path(), 1);
-  EXPECT_TRUE(contains(errorOf([&] { convertTumToRawlog(s.dir, d / "x.txt", quietWith(s)); }),
-                       ".rawlog"));
-  EXPECT_TRUE(contains(
-      errorOf([&] { convertTumToRawlog(s.dir, d / "no/such/x.rawlog", quietWith(s)); }),
-      "does not exist"));
+  EXPECT_TRUE(
+      contains(errorOf([&] { convertTumToRawlog(s.dir, d / "x.txt", quietWith(s)); }), ".rawlog"));
+  EXPECT_TRUE(
+      contains(errorOf([&] { convertTumToRawlog(s.dir, d / "no/such/x.rawlog", quietWith(s)); }),
+               "does not exist"));
 }
 
 TEST(RawlogSource, CameraConfigOverridesStoredCamera) {

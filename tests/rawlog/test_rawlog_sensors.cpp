@@ -50,8 +50,9 @@ std::string writeTwoSensors(const TempDir& d) {
     w.scan(smallScan(w, "KINECT", t, 1000));
     if (k < 2) w.scan(smallScan(w, "XTION", t + 0.01, 2000));
     w.imu(t + 0.02);
-    w.image(t + 0.03, w.writeImage(cv::Mat(48, 64, CV_8UC3, cv::Scalar(1, 2, 3)),
-                                   "img_" + std::to_string(k) + ".png"),
+    w.image(t + 0.03,
+            w.writeImage(cv::Mat(48, 64, CV_8UC3, cv::Scalar(1, 2, 3)),
+                         "img_" + std::to_string(k) + ".png"),
             smallCamera());
   }
   return path;
@@ -59,7 +60,9 @@ std::string writeTwoSensors(const TempDir& d) {
 
 std::string usageErrorOf(const std::function<void()>& fn) { return messageOf<UsageError>(fn); }
 
-bool has(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
+bool has(const std::string& s, const std::string& part) {
+  return s.find(part) != std::string::npos;
+}
 
 }  // namespace
 
@@ -86,9 +89,8 @@ TEST(RawlogSensors, TheChosenSensorsFramesOnly) {
   const SourceNotes n = xtion.notes();
   EXPECT_EQ(n.sensor, "XTION");
   EXPECT_FALSE(n.depth_registered);
-  const std::map<std::string, std::size_t> skipped{{"CObservation3DRangeScan 'KINECT'", 3},
-                                                   {"CObservationIMU", 3},
-                                                   {"CObservationImage", 3}};
+  const std::map<std::string, std::size_t> skipped{
+      {"CObservation3DRangeScan 'KINECT'", 3}, {"CObservationIMU", 3}, {"CObservationImage", 3}};
   EXPECT_EQ(n.skipped_observations, skipped);
   RawlogSource kinect(path, "", "KINECT");
   ASSERT_EQ(kinect.size(), 3u);

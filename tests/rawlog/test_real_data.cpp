@@ -66,8 +66,7 @@ TEST(RealData, Fr1RpyAssociationHas694Pairs) {
 TEST(RealData, Fr1RpyFirst30FramesRoundTripThroughRawlog) {
   TempDir d;
   const std::string out = d / "rpy30.rawlog";
-  const CommandResult r =
-      runDynslam({"convert", rpyDir(), out, "--max-frames", "30", "--quiet"});
+  const CommandResult r = runDynslam({"convert", rpyDir(), out, "--max-frames", "30", "--quiet"});
   ASSERT_EQ(r.exit_code, 0) << r.output;
 
   const auto rgb = parseList(rpyDir() + "/rgb.txt");

@@ -55,14 +55,16 @@ class Reprojector {
     std::vector<cv::Point2d> pixels;
     for (int v = 0; v < rgb.height; ++v)
       for (int u = 0; u < rgb.width; ++u) pixels.emplace_back(u, v);
-    cv::undistortPoints(pixels, rays_, k, cv::Mat(rgb.dist), cv::noArray(), cv::noArray(),
-                        cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 50, 1e-10));
+    cv::undistortPoints(
+        pixels, rays_, k, cv::Mat(rgb.dist), cv::noArray(), cv::noArray(),
+        cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 50, 1e-10));
   }
 
   cv::Mat toIr(const cv::Mat& depth) const {
     const PinholeCamera ir = irCamera();
     const CPose3D rgb_in_ir = CPose3D() - irInRgb();
-    cv::Mat z(rgb_.height, rgb_.width, CV_64FC1, cv::Scalar(std::numeric_limits<double>::infinity()));
+    cv::Mat z(rgb_.height, rgb_.width, CV_64FC1,
+              cv::Scalar(std::numeric_limits<double>::infinity()));
     for (int v = 0; v < depth.rows; ++v)
       for (int u = 0; u < depth.cols; ++u) {
         const uint16_t d = depth.at<uint16_t>(v, u);
@@ -179,8 +181,8 @@ TEST(RecordedRawlog, KinectDepthIsRegisteredToTheRgbCamera) {
     const std::size_t i = 33 * k;
     const double registered = shareMatching(kinect.load(i).depth, rec.tum_depth[k]);
     const double as_is = shareMatching(mislabelled.load(i).depth, rec.tum_depth[k]);
-    std::printf("frame %zu: %.3f of TUM's depth pixels matched registered, %.3f unregistered\n",
-                i, registered, as_is);
+    std::printf("frame %zu: %.3f of TUM's depth pixels matched registered, %.3f unregistered\n", i,
+                registered, as_is);
     EXPECT_GT(registered, 0.90) << "frame " << i;
     EXPECT_LT(as_is, 0.6) << "frame " << i;
   }
@@ -208,9 +210,10 @@ TEST(RecordedRawlog, KinectDepthIsRegisteredToTheRgbCamera) {
                   int(kFrames));
       }
   }
-  std::printf("ATE RMSE: registered %.4f m, depth camera (registered by dynslam) %.4f m, "
-              "depth camera read as registered %.4f m\n",
-              ate[0], ate[1], ate[2]);
+  std::printf(
+      "ATE RMSE: registered %.4f m, depth camera (registered by dynslam) %.4f m, "
+      "depth camera read as registered %.4f m\n",
+      ate[0], ate[1], ate[2]);
   ::testing::Test::RecordProperty("ate_registered_um", int(std::lround(1e6 * ate[0])));
   ::testing::Test::RecordProperty("ate_kinect_um", int(std::lround(1e6 * ate[1])));
   ::testing::Test::RecordProperty("ate_mislabelled_um", int(std::lround(1e6 * ate[2])));

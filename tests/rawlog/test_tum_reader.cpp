@@ -106,9 +106,9 @@ TEST(TumFolder, AssociationSkipsUnmatchedFrames) {
   // Drop depth of frame 1 and move depth of frame 3 out of the 0.02 s window.
   char late[64];
   std::snprintf(late, sizeof late, "%.6f", s.rgb_times[3] + 0.025);
-  writeList(s.dir + "/depth.txt", {"1305031229.501000 " + s.depth_files[0],
-                                   "1305031229.567000 " + s.depth_files[2],
-                                   std::string(late) + " " + s.depth_files[3]});
+  writeList(s.dir + "/depth.txt",
+            {"1305031229.501000 " + s.depth_files[0], "1305031229.567000 " + s.depth_files[2],
+             std::string(late) + " " + s.depth_files[3]});
   const auto t = tumPairTimestamps(s.dir);
   ASSERT_EQ(t.size(), 2u);
   EXPECT_DOUBLE_EQ(t[0], s.rgb_times[0]);

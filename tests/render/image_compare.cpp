@@ -15,8 +15,7 @@ namespace fs = std::filesystem;
 
 ImageDiff compareImages(const cv::Mat& actual, const cv::Mat& expected, int channel_threshold) {
   ImageDiff d;
-  if (actual.size() != expected.size() || actual.type() != CV_8UC3 ||
-      expected.type() != CV_8UC3) {
+  if (actual.size() != expected.size() || actual.type() != CV_8UC3 || expected.type() != CV_8UC3) {
     return d;
   }
   d.same_size = true;
@@ -58,8 +57,8 @@ std::string checkAgainstGolden(const cv::Mat& actual, const std::string& name,
   const cv::Mat expected = cv::imread(golden.string(), cv::IMREAD_COLOR);
   if (expected.empty()) {
     cv::imwrite(actual_path.string(), actual);
-    return "golden " + golden.string() + " missing; actual written to " +
-           actual_path.string() + " (DYNSLAM_UPDATE_GOLDEN=1 creates goldens)";
+    return "golden " + golden.string() + " missing; actual written to " + actual_path.string() +
+           " (DYNSLAM_UPDATE_GOLDEN=1 creates goldens)";
   }
   const ImageDiff d = compareImages(actual, expected, tolerance.channel_threshold);
   if (d.same_size && d.differing_share <= tolerance.max_differing_share) return "";

@@ -25,7 +25,7 @@ struct ImageDiff {
 ImageDiff compareImages(const cv::Mat& actual, const cv::Mat& expected, int channel_threshold);
 
 struct GoldenTolerance {
-  int channel_threshold = 40;     ///< per-channel difference that counts
+  int channel_threshold = 40;  ///< per-channel difference that counts
   double max_differing_share = 0.005;
 };
 

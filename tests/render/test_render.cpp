@@ -17,8 +17,8 @@
 
 using namespace dynslam;
 using dynslam::test::checkAgainstGolden;
-using dynslam::test::TempDir;
 using dynslam::test::lookAt;
+using dynslam::test::TempDir;
 
 namespace {
 
@@ -129,7 +129,7 @@ TEST(RenderGeometry, TopViewCentresMapAndPutsForwardUp) {
   addCluster(map, 0, 0, 0, 255, 0, 0);
   addCluster(map, 0, 0, 0, 255, 0, 0);
   addCluster(map, 0.5, 0, 0, 0, 255, 0);  // +x
-  StampedPose kf;  // one upright camera looking along +x: forward = +x
+  StampedPose kf;                         // one upright camera looking along +x: forward = +x
   kf.pose = lookAt(-1, 0, 0.5, 0, 0, 0.5);
   map.keyframes.push_back(kf);
   RenderOptions o = smallOptions();
@@ -158,7 +158,8 @@ TEST(RenderGeometry, FrustumOpensAlongTheViewingDirection) {
   // Top view: forward (+x) is image-up, the keyframe at the view centre.
   const cv::Mat img = renderer.render(map, ViewSpec::parse("top"));
   double bx, by;
-  const int n = centroid(img, [](const cv::Vec3b& c) { return c[0] > 100; }, bx, by);
+  const int n = centroid(
+      img, [](const cv::Vec3b& c) { return c[0] > 100; }, bx, by);
   ASSERT_GT(n, 20);
   EXPECT_NEAR(bx, 159.5, 3.0);
   EXPECT_LT(by, 119.5 - 20);
@@ -203,13 +204,15 @@ TEST(RenderGeometry, SameInputSamePixels) {
 
 TEST(RenderSnapshot, CubeTop) {
   MapRenderer renderer(smallOptions());
-  const std::string msg = checkAgainstGolden(renderer.render(cubeMap(), ViewSpec::parse("top")), "cube_top");
+  const std::string msg =
+      checkAgainstGolden(renderer.render(cubeMap(), ViewSpec::parse("top")), "cube_top");
   EXPECT_TRUE(msg.empty()) << msg;
 }
 
 TEST(RenderSnapshot, CubeFront) {
   MapRenderer renderer(smallOptions());
-  const std::string msg = checkAgainstGolden(renderer.render(cubeMap(), ViewSpec::parse("front")), "cube_front");
+  const std::string msg =
+      checkAgainstGolden(renderer.render(cubeMap(), ViewSpec::parse("front")), "cube_front");
   EXPECT_TRUE(msg.empty()) << msg;
 }
 
@@ -218,7 +221,8 @@ TEST(RenderSnapshot, CubeOrbit45DarkBackground) {
   o.background = {20, 20, 30};
   o.point_size = 2;
   MapRenderer renderer(o);
-  const std::string msg = checkAgainstGolden(renderer.render(cubeMap(), ViewSpec::parse("orbit-45")), "cube_orbit45_dark");
+  const std::string msg = checkAgainstGolden(
+      renderer.render(cubeMap(), ViewSpec::parse("orbit-45")), "cube_orbit45_dark");
   EXPECT_TRUE(msg.empty()) << msg;
 }
 

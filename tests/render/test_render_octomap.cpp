@@ -15,15 +15,16 @@
 #include "testing/test_support.h"
 
 using namespace dynslam;
-using dynslam::test::TempDir;
 using dynslam::test::lookAt;
+using dynslam::test::TempDir;
 
 namespace {
 
 MapData roomTree(const TempDir& d) {
   octomap::OcTree tree(0.1);
   auto occupy = [&](double x, double y, double z) {
-    for (int k = 0; k < 3; ++k) tree.updateNode(octomap::point3d(float(x), float(y), float(z)), true);
+    for (int k = 0; k < 3; ++k)
+      tree.updateNode(octomap::point3d(float(x), float(y), float(z)), true);
   };
   for (int i = 0; i < 10; ++i)
     for (int j = 0; j < 8; ++j) occupy(0.05 + 0.1 * i, 0.05 + 0.1 * j, 0.05);  // floor slab
@@ -32,7 +33,7 @@ MapData roomTree(const TempDir& d) {
     for (int j = 0; j < 7; ++j) occupy(0.05, 0.05 + 0.1 * j, 0.05 + 0.1 * k);   // side wall
   }
   for (int k = 1; k < 9; ++k) occupy(0.65, 0.25, 0.05 + 0.1 * k);  // column
-  tree.updateNode(octomap::point3d(0.45f, 0.35f, 0.35f), false);  // a free cell: not drawn
+  tree.updateNode(octomap::point3d(0.45f, 0.35f, 0.35f), false);   // a free cell: not drawn
   writeOctoMapFile(d / "room.bt", tree);
   return occupiedCellsAsMap(*readOctoMapFile(d / "room.bt"), d / "room.bt");
 }

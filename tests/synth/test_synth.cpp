@@ -82,7 +82,8 @@ TEST(SyntheticSequence, MaskIsWhereAMoverIsTheNearestSurface) {
     for (int v = 3; v < K.height; v += 11)
       for (int u = 3; u < K.width; u += 11) {
         const double with = seq.world().rayDepth(f.pose_wc, K.fx, K.fy, K.cx, K.cy, u, v, t, true);
-        const double without = seq.world().rayDepth(f.pose_wc, K.fx, K.fy, K.cx, K.cy, u, v, t, false);
+        const double without =
+            seq.world().rayDepth(f.pose_wc, K.fx, K.fy, K.cx, K.cy, u, v, t, false);
         const bool on_mover = with < without - 1e-6;
         const bool in_mask = f.mask.at<uint8_t>(v, u) != 0;
         ++total;

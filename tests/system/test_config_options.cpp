@@ -120,7 +120,8 @@ TEST(ConfigOptions, DumpReadsBackToTheSameValues) {
   EXPECT_EQ(back.dynamic.detector.dynamic_classes, (std::vector<std::string>{"person", "dog"}));
   EXPECT_EQ(back.map_export.voxel_leaf, 0.02);
   EXPECT_EQ(back.occupancy_map.resolution, 0.1);
-  EXPECT_NE(dump.find("  bundle_adjustment:\n    iterations_first: 5\n"), std::string::npos) << dump;
+  EXPECT_NE(dump.find("  bundle_adjustment:\n    iterations_first: 5\n"), std::string::npos)
+      << dump;
 }
 
 // Every section of the list rejects a key it does not list, naming the file
@@ -194,7 +195,8 @@ TEST(ConfigCli, PrintsTheEffectiveConfig) {
   TempDir d;
   const SplitCommandResult r = runDynslamSplit({"config"});
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_EQ(withoutComments(r.out), withoutComments(slamConfigYaml(loadSlamConfig(shippedConfig()))));
+  EXPECT_EQ(withoutComments(r.out),
+            withoutComments(slamConfigYaml(loadSlamConfig(shippedConfig()))));
   const CommandResult help = runDynslam({"config", "--help"});
   EXPECT_EQ(help.exit_code, 0);
   EXPECT_NE(help.output.find("local_mapper.bundle_adjustment"), std::string::npos) << help.output;
@@ -212,8 +214,8 @@ TEST(ConfigCli, PrintsTheEffectiveConfig) {
 // for byte (runs repeat, issue 17).
 TEST(ConfigUsed, GivenBackReproducesTheRun) {
   TempDir d;
-  const CommandResult a = runDynslam({"run", rpyDir(), "-o", d / "a", "--max-frames", "30",
-                                      "--mode", "detect+flow"});
+  const CommandResult a =
+      runDynslam({"run", rpyDir(), "-o", d / "a", "--max-frames", "30", "--mode", "detect+flow"});
   ASSERT_EQ(a.exit_code, 0) << a.output;
   const std::string used = d / ("a/" + std::string(kConfigUsedFile));
   const std::string text = readText(used);
@@ -221,9 +223,8 @@ TEST(ConfigUsed, GivenBackReproducesTheRun) {
   const SlamConfig expected = loadSlamConfig(shippedConfig());
   EXPECT_EQ(withoutComments(text), withoutComments(slamConfigYaml(expected)));
 
-  const CommandResult b =
-      runDynslam({"run", rpyDir(), "-o", d / "b", "--max-frames", "30", "--mode", "detect+flow",
-                  "--config", used});
+  const CommandResult b = runDynslam({"run", rpyDir(), "-o", d / "b", "--max-frames", "30",
+                                      "--mode", "detect+flow", "--config", used});
   ASSERT_EQ(b.exit_code, 0) << b.output;
   for (const char* f : {"trajectory.txt", "keyframes.txt", "map_points.txt"}) {
     const std::string fa = readText(d / ("a/" + std::string(f)));

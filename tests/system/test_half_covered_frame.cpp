@@ -35,9 +35,9 @@ namespace {
 // enough corners for the whole budget (from frame 30 on the room's plain
 // carpet fills it: 760-1250 keypoints even with the true mask).
 constexpr std::size_t kFrames = 30;
-constexpr std::size_t kPanelFrom = 8;      ///< the panel enters here
-constexpr std::size_t kSettleFrames = 3;   ///< frames the flow needs to find it
-constexpr double kPanelDepth = 0.9;        ///< m
+constexpr std::size_t kPanelFrom = 8;     ///< the panel enters here
+constexpr std::size_t kSettleFrames = 3;  ///< frames the flow needs to find it
+constexpr double kPanelDepth = 0.9;       ///< m
 
 /// The panel's pixels in frame i: 330 of the 640 columns, all rows, sliding
 /// 6 px a frame right and back (about 0.3 m/s at 0.9 m).
@@ -85,7 +85,8 @@ class WithoutExtractionMask : public ObservationPreprocessor {
                std::vector<uint8_t>& dynamic) override {
     inner_.process(frame, gray, keys, dynamic);
   }
-  bool frameTracked(std::size_t index, const TrackedPose& pose, std::vector<uint8_t>& dynamic) override {
+  bool frameTracked(std::size_t index, const TrackedPose& pose,
+                    std::vector<uint8_t>& dynamic) override {
     return inner_.frameTracked(index, pose, dynamic);
   }
 
@@ -97,7 +98,7 @@ enum class Stage { kNone, kFlow, kFlowWithoutExtractionMask };
 
 struct CoveredRun {
   std::vector<double> position_error;  ///< m, per frame (NaN when not tracked)
-  std::vector<double> static_share;    ///< covered frames: static keypoints / uncovered frame's count
+  std::vector<double> static_share;  ///< covered frames: static keypoints / uncovered frame's count
   std::size_t tracked = 0;
 };
 
@@ -105,7 +106,8 @@ CoveredRun run(Stage stage, bool covered) {
   const SyntheticData& data = twoLapData();
   SlamConfig cfg = loadSlamConfig(defaultSlamConfigPath());
   cfg.loop.enabled = false;
-  if (stage != Stage::kNone) cfg.orb.n_features = cfg.dynamic.orb_features;  // as `dynslam run` does
+  if (stage != Stage::kNone)
+    cfg.orb.n_features = cfg.dynamic.orb_features;  // as `dynslam run` does
   SlamSystem slam(cfg, data.camera());
   DynamicFilterParams dp = cfg.dynamic;
   dp.use_detector = false;
@@ -123,18 +125,20 @@ CoveredRun run(Stage stage, bool covered) {
     const FrameOutcome out = slam.process(f);
     const bool ok = out.track.state == TrackingState::kOk;
     r.tracked += ok;
-    r.position_error.push_back(
-        ok ? centreDistance(out.track.pose_wc, data.trueRelativePose(i)) : std::nan(""));
+    r.position_error.push_back(ok ? centreDistance(out.track.pose_wc, data.trueRelativePose(i))
+                                  : std::nan(""));
     if (mask.empty() || i < kPanelFrom + kSettleFrames) continue;
     std::size_t off_panel = 0;
     for (const cv::KeyPoint& k : out.features->keys)
-      off_panel += mask.at<uint8_t>(cvRound(std::min(k.pt.y, 479.f)), cvRound(std::min(k.pt.x, 639.f))) == 0;
+      off_panel +=
+          mask.at<uint8_t>(cvRound(std::min(k.pt.y, 479.f)), cvRound(std::min(k.pt.x, 639.f))) == 0;
     cv::Mat gray;
     cv::cvtColor(data.frame(i).rgb, gray, cv::COLOR_BGR2GRAY);
     std::vector<cv::KeyPoint> keys;
     cv::Mat desc;
     reference.extract(gray, keys, desc, cv::Mat());
-    r.static_share.push_back(static_cast<double>(off_panel) / std::max<std::size_t>(1, keys.size()));
+    r.static_share.push_back(static_cast<double>(off_panel) /
+                             std::max<std::size_t>(1, keys.size()));
   }
   slam.finish();
   return r;
@@ -163,9 +167,12 @@ TEST(HalfCoveredFrame, KeepsTheStaticKeypointCountAndItsPose) {
   ASSERT_EQ(uncovered.tracked, kFrames);
   const double reference_error = worst(uncovered.position_error, kPanelFrom);
   RecordProperty("uncovered_worst_mm", static_cast<int>(1000 * reference_error));
-  RecordProperty("covered_worst_mm", static_cast<int>(1000 * worst(with_stage.position_error, kPanelFrom)));
-  RecordProperty("covered_lowest_static_share_pct", static_cast<int>(100 * lowest(with_stage.static_share)));
-  RecordProperty("covered_median_static_share_pct", static_cast<int>(100 * median(with_stage.static_share)));
+  RecordProperty("covered_worst_mm",
+                 static_cast<int>(1000 * worst(with_stage.position_error, kPanelFrom)));
+  RecordProperty("covered_lowest_static_share_pct",
+                 static_cast<int>(100 * lowest(with_stage.static_share)));
+  RecordProperty("covered_median_static_share_pct",
+                 static_cast<int>(100 * median(with_stage.static_share)));
 
   // Every covered frame tracked, the static part keeping its keypoint count.
   EXPECT_EQ(with_stage.tracked, kFrames);
@@ -183,8 +190,10 @@ TEST(HalfCoveredFrame, FailsWithoutTheMechanisms) {
   const CoveredRun unmasked = run(Stage::kFlowWithoutExtractionMask, true);
   const CoveredRun no_stage = run(Stage::kNone, true);
   const double reference_error = worst(uncovered.position_error, kPanelFrom);
-  RecordProperty("unmasked_median_static_share_pct", static_cast<int>(100 * median(unmasked.static_share)));
-  RecordProperty("no_stage_worst_mm", static_cast<int>(std::min(1e6, 1000 * worst(no_stage.position_error, kPanelFrom))));
+  RecordProperty("unmasked_median_static_share_pct",
+                 static_cast<int>(100 * median(unmasked.static_share)));
+  RecordProperty("no_stage_worst_mm", static_cast<int>(std::min(
+                                          1e6, 1000 * worst(no_stage.position_error, kPanelFrom))));
   EXPECT_LT(median(unmasked.static_share), 0.75);
   EXPECT_GT(worst(no_stage.position_error, kPanelFrom), reference_error + 0.05);
 }

@@ -10,8 +10,8 @@ using namespace dynslam::test;
 
 TEST(LogLevelCli, TraceShowsPerFrameLinesDefaultDoesNot) {
   TempDir d;
-  const auto quiet = runDynslamSplit(
-      {"run", rpyDir(), "-o", d / "a", "--mode", "off", "--max-frames", "3"});
+  const auto quiet =
+      runDynslamSplit({"run", rpyDir(), "-o", d / "a", "--mode", "off", "--max-frames", "3"});
   ASSERT_EQ(quiet.exit_code, 0) << quiet.err;
   EXPECT_EQ(quiet.err.find("[track]"), std::string::npos) << quiet.err;
   const auto trace = runDynslamSplit({"run", rpyDir(), "-o", d / "b", "--mode", "off",

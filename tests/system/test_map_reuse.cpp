@@ -49,9 +49,9 @@ double writeTwicePlayed(const std::string& seq, std::size_t n) {
   rgb.resize(std::min(n, rgb.size()));
   depth.resize(std::min(n + 5, depth.size()));
   const double shift = std::stod(gt.back()) - std::stod(gt.front()) + 1.0;
-  for (const auto& [name, lines] : {std::pair{std::string("rgb.txt"), rgb},
-                                    std::pair{std::string("depth.txt"), depth},
-                                    std::pair{std::string("groundtruth.txt"), gt}}) {
+  for (const auto& [name, lines] :
+       {std::pair{std::string("rgb.txt"), rgb}, std::pair{std::string("depth.txt"), depth},
+        std::pair{std::string("groundtruth.txt"), gt}}) {
     std::ofstream out(seq + "/" + name);
     for (const auto& l : lines) out << l << "\n";
     for (const auto& l : lines) {
@@ -75,13 +75,14 @@ TEST(MapReuse, SecondPassRelocalisesIntoTheFirstPassMap) {
   writeTwicePlayed(seq, kFrames);
 
   const std::string once = d / "once", twice = d / "twice";
-  CommandResult r = runDynslam({"run", seq, "--mode", "off", "-o", once, "--max-frames",
-                                std::to_string(kFrames)});
+  CommandResult r = runDynslam(
+      {"run", seq, "--mode", "off", "-o", once, "--max-frames", std::to_string(kFrames)});
   ASSERT_EQ(r.exit_code, 0) << r.output;
   r = runDynslam({"run", seq, "--mode", "off", "-o", twice});
   ASSERT_EQ(r.exit_code, 0) << r.output;
 
-  cv::FileStorage report(twice + "/report.json", cv::FileStorage::READ | cv::FileStorage::FORMAT_JSON);
+  cv::FileStorage report(twice + "/report.json",
+                         cv::FileStorage::READ | cv::FileStorage::FORMAT_JSON);
   ASSERT_TRUE(report.isOpened());
   const cv::FileNode relocs = report["relocalisations"];
   ASSERT_TRUE(relocs.isSeq());

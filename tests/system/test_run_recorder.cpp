@@ -19,7 +19,8 @@ using dynslam::test::TempDir;
 
 namespace {
 
-FrameRecord frame(double t, double read_ms, double track_ms, double total_ms, bool pose, bool lost) {
+FrameRecord frame(double t, double read_ms, double track_ms, double total_ms, bool pose,
+                  bool lost) {
   FrameRecord f;
   f.timestamp = t;
   f.read_ms = read_ms;

@@ -50,14 +50,15 @@ double rotationDeg(const CPose3D& a, const CPose3D& b) {
 /// camera turns up to ~1 deg between samples). None outside the groundtruth
 /// or across a gap of more than 0.05 s.
 std::optional<CPose3D> groundtruthAt(const Trajectory& gt, double t) {
-  const auto after = std::lower_bound(gt.begin(), gt.end(), t,
-                                      [](const StampedPose& p, double x) { return p.timestamp < x; });
+  const auto after = std::lower_bound(
+      gt.begin(), gt.end(), t, [](const StampedPose& p, double x) { return p.timestamp < x; });
   if (after == gt.begin() || after == gt.end()) return std::nullopt;
   const StampedPose& a = *(after - 1);
   const StampedPose& b = *after;
   if (b.timestamp - a.timestamp > 0.05) return std::nullopt;
   mrpt::math::TPose3D p;
-  mrpt::math::slerp(a.pose.asTPose(), b.pose.asTPose(), (t - a.timestamp) / (b.timestamp - a.timestamp), p);
+  mrpt::math::slerp(a.pose.asTPose(), b.pose.asTPose(),
+                    (t - a.timestamp) / (b.timestamp - a.timestamp), p);
   return CPose3D(p);
 }
 
@@ -111,12 +112,15 @@ class SavedMap : public ::testing::Test {
   static Trajectory groundtruth() { return readTumTrajectory(rpyDir() + "/groundtruth.txt"); }
   /// The mapping run's first frame (the map's world frame) and its own errors
   /// against the truth in that frame: a run in the map is held to these.
-  static double firstTimestamp() { return readTumTrajectory(mapping() + "/trajectory.txt").front().timestamp; }
+  static double firstTimestamp() {
+    return readTumTrajectory(mapping() + "/trajectory.txt").front().timestamp;
+  }
   static Errors mappingErrors() {
     const Trajectory map_run = readTumTrajectory(mapping() + "/trajectory.txt");
     const CPose3D& first = map_run.front().pose;
     EXPECT_LT(first.translation().norm() + std::abs(first.yaw()) + std::abs(first.pitch()) +
-                  std::abs(first.roll()), 1e-6)
+                  std::abs(first.roll()),
+              1e-6)
         << "the mapping run's first frame is not at identity";
     return errorsInMapFrame(groundtruth(), firstTimestamp(), map_run);
   }
@@ -130,15 +134,18 @@ TEST_F(SavedMap, LocalisationTracksInTheMapsFrameAndLeavesItUnchanged) {
   ASSERT_TRUE(fs::exists(mapFile()));
   const std::string before = bytesOf(mapFile());
   const std::string loc = *dir_ / "loc";
-  const CommandResult r = runDynslam({"run", rpyDir(), "--mode", "off", "--max-frames",
-                                      std::to_string(kFrames), "--map", mapFile(), "--localize", "-o", loc});
+  const CommandResult r =
+      runDynslam({"run", rpyDir(), "--mode", "off", "--max-frames", std::to_string(kFrames),
+                  "--map", mapFile(), "--localize", "-o", loc});
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_TRUE(bytesOf(mapFile()) == before) << "the map file changed";
   EXPECT_FALSE(fs::exists(loc + "/map.dsm"));
 
-  cv::FileStorage report(loc + "/report.json", cv::FileStorage::READ | cv::FileStorage::FORMAT_JSON);
+  cv::FileStorage report(loc + "/report.json",
+                         cv::FileStorage::READ | cv::FileStorage::FORMAT_JSON);
   ASSERT_TRUE(report.isOpened());
-  cv::FileStorage mapped(mapping() + "/report.json", cv::FileStorage::READ | cv::FileStorage::FORMAT_JSON);
+  cv::FileStorage mapped(mapping() + "/report.json",
+                         cv::FileStorage::READ | cv::FileStorage::FORMAT_JSON);
   EXPECT_EQ(static_cast<int>(report["loaded_map"]["unchanged"]), 1);
   EXPECT_EQ(static_cast<int>(report["keyframes"]), static_cast<int>(mapped["keyframes"]));
   EXPECT_EQ(static_cast<int>(report["map_points"]), static_cast<int>(mapped["map_points"]));
@@ -172,8 +179,8 @@ std::string secondSession(const std::string& dir, const std::string& map_file) {
   const std::string second = dir + "/second";
   if (!fs::exists(second + "/report.json")) {
     const CommandResult r =
-        runDynslam({"run", rpyDir(), "--mode", "off", "--max-frames",
-                    std::to_string(kFrames), "--map", map_file, "--save-map", "-o", second});
+        runDynslam({"run", rpyDir(), "--mode", "off", "--max-frames", std::to_string(kFrames),
+                    "--map", map_file, "--save-map", "-o", second});
     EXPECT_EQ(r.exit_code, 0) << r.output;
   }
   return second;
@@ -182,10 +189,13 @@ std::string secondSession(const std::string& dir, const std::string& map_file) {
 
 TEST_F(SavedMap, SecondSessionGoesOnInTheMapAndSavesItGrown) {
   const std::string second = secondSession(dir_->path(), mapFile());
-  cv::FileStorage report(second + "/report.json", cv::FileStorage::READ | cv::FileStorage::FORMAT_JSON);
-  cv::FileStorage mapped(mapping() + "/report.json", cv::FileStorage::READ | cv::FileStorage::FORMAT_JSON);
+  cv::FileStorage report(second + "/report.json",
+                         cv::FileStorage::READ | cv::FileStorage::FORMAT_JSON);
+  cv::FileStorage mapped(mapping() + "/report.json",
+                         cv::FileStorage::READ | cv::FileStorage::FORMAT_JSON);
   ASSERT_TRUE(report.isOpened());
-  EXPECT_EQ(static_cast<int>(report["loaded_map"]["keyframes"]), static_cast<int>(mapped["keyframes"]));
+  EXPECT_EQ(static_cast<int>(report["loaded_map"]["keyframes"]),
+            static_cast<int>(mapped["keyframes"]));
   EXPECT_GE(static_cast<int>(report["tracked_frames"]), kFrames - 2);
   ASSERT_GE(report["relocalisations"].size(), 1u);
   EXPECT_LE(static_cast<int>(report["relocalisations"][0]["frame"]), 2);
@@ -196,7 +206,8 @@ TEST_F(SavedMap, SecondSessionGoesOnInTheMapAndSavesItGrown) {
   EXPECT_GT(fs::file_size(second + "/map.dsm"), fs::file_size(mapFile()) / 2);
   // Its poses are in the loaded map's frame, as accurate as the mapping run's.
   const Errors mapped_err = mappingErrors();
-  const Errors e = errorsInMapFrame(groundtruth(), firstTimestamp(), readTumTrajectory(second + "/trajectory.txt"));
+  const Errors e = errorsInMapFrame(groundtruth(), firstTimestamp(),
+                                    readTumTrajectory(second + "/trajectory.txt"));
   EXPECT_LT(e.pos, mapped_err.pos + 0.01);
   EXPECT_LT(e.rot, mapped_err.rot + 1.0);
   EXPECT_LT(e.mean_pos, mapped_err.mean_pos + 0.005);
@@ -237,8 +248,10 @@ TEST_F(SavedMap, SecondSessionGoesOnInTheMapAndSavesItGrown) {
 // against 3043).
 TEST_F(SavedMap, DISABLED_SecondSessionGrowsTheMapByLessThanTenPercent) {
   const std::string second = secondSession(dir_->path(), mapFile());
-  cv::FileStorage report(second + "/report.json", cv::FileStorage::READ | cv::FileStorage::FORMAT_JSON);
-  cv::FileStorage mapped(mapping() + "/report.json", cv::FileStorage::READ | cv::FileStorage::FORMAT_JSON);
+  cv::FileStorage report(second + "/report.json",
+                         cv::FileStorage::READ | cv::FileStorage::FORMAT_JSON);
+  cv::FileStorage mapped(mapping() + "/report.json",
+                         cv::FileStorage::READ | cv::FileStorage::FORMAT_JSON);
   ASSERT_TRUE(report.isOpened());
   const int points_before = static_cast<int>(mapped["map_points"]);
   EXPECT_LT(static_cast<int>(report["map_points"]), points_before * 11 / 10);
@@ -272,10 +285,10 @@ TEST_F(SavedMap, BadMapFilesExit1AndWriteNothing) {
     const std::string path = *dir_ / (c.name + ".dsm");
     std::ofstream(path, std::ios::binary) << c.content;
     const std::string out = *dir_ / ("out_" + c.name);
-    const CommandResult r = runDynslam({"run", rpyDir(), "--mode", "off", "--max-frames", "5", "--map",
-                                        path, "--localize", "-o", out});
+    const CommandResult r = runDynslam({"run", rpyDir(), "--mode", "off", "--max-frames", "5",
+                                        "--map", path, "--localize", "-o", out});
     EXPECT_EQ(r.exit_code, 1) << c.name << ": " << r.output;
-    EXPECT_NE(r.output.find(path + ": " ), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find(path + ": "), std::string::npos) << r.output;
     EXPECT_NE(r.output.find(c.message), std::string::npos) << r.output;
     EXPECT_FALSE(fs::exists(out)) << c.name;
   }

@@ -19,15 +19,15 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <atomic>
-#include <thread>
-#include <vector>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <tuple>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <thread>
+#include <tuple>
+#include <vector>
 
 #include "core/errors.h"
 #include "core/trajectory.h"
@@ -75,9 +75,7 @@ Eigen::Matrix3d rotation(const mrpt::poses::CPose3D& p) {
   return R;
 }
 
-double angleDeg(const Eigen::Matrix3d& R) {
-  return Eigen::AngleAxisd(R).angle() * 180.0 / M_PI;
-}
+double angleDeg(const Eigen::Matrix3d& R) { return Eigen::AngleAxisd(R).angle() * 180.0 / M_PI; }
 
 /// Checks a run folder of the first n frames of fr1_rpy: n poses at the
 /// sequence's first n RGB-D pair timestamps, the first at identity, and ATE
@@ -116,8 +114,10 @@ double checkRun(const std::string& out_dir, std::size_t n) {
   EXPECT_TRUE(rpe.available());
   EXPECT_LT(rpe.trans.rmse, kFrozenRpeFraction * rpe_frozen.trans.rmse)
       << "1 s RPE no better than a trajectory that never moves: " << rpe_frozen.trans.rmse;
-  ::testing::Test::RecordProperty("ate_over_never_moving_pct", int(std::lround(100 * ate.stats.rmse / ate_frozen.stats.rmse)));
-  ::testing::Test::RecordProperty("rpe_over_never_moving_pct", int(std::lround(100 * rpe.trans.rmse / rpe_frozen.trans.rmse)));
+  ::testing::Test::RecordProperty("ate_over_never_moving_pct",
+                                  int(std::lround(100 * ate.stats.rmse / ate_frozen.stats.rmse)));
+  ::testing::Test::RecordProperty("rpe_over_never_moving_pct",
+                                  int(std::lround(100 * rpe.trans.rmse / rpe_frozen.trans.rmse)));
   return ate.stats.rmse;
 }
 
@@ -138,8 +138,8 @@ TEST(SystemRpy, First100FramesThroughLibrary) {
   EXPECT_GE(s.keyframes, 2u);
   EXPECT_GT(s.map_points, 500u);
 
-  for (const char* f : {"trajectory.txt", "keyframes.txt", "map_points.txt", "run_info.yaml",
-                        "report.json"})
+  for (const char* f :
+       {"trajectory.txt", "keyframes.txt", "map_points.txt", "run_info.yaml", "report.json"})
     EXPECT_TRUE(fs::is_regular_file(o.out_dir + "/" + f)) << f;
 
   cv::FileStorage report(o.out_dir + "/report.json",
@@ -207,7 +207,8 @@ TEST(SystemRpy, RunsRepeatByteForByteUnderLoad) {
   std::size_t masks = 0;
   for (const auto& e : fs::directory_iterator(d / "quiet/dynamic_masks")) {
     ++masks;
-    EXPECT_EQ(readText(e.path()), readText(d / ("busy/dynamic_masks/" + e.path().filename().string())))
+    EXPECT_EQ(readText(e.path()),
+              readText(d / ("busy/dynamic_masks/" + e.path().filename().string())))
         << e.path();
   }
   EXPECT_GT(masks, 0u);
@@ -257,7 +258,8 @@ void expectFailure(const CommandResult& r, const std::vector<std::string>& must_
                    const std::string& out_dir) {
   EXPECT_NE(r.exit_code, 0) << r.output;
   EXPECT_TRUE(contains(r.output, "error")) << r.output;
-  for (const auto& part : must_contain) EXPECT_TRUE(contains(r.output, part)) << part << "\n" << r.output;
+  for (const auto& part : must_contain)
+    EXPECT_TRUE(contains(r.output, part)) << part << "\n" << r.output;
   for (const char* f : {"trajectory.txt", "report.json", "keyframes.txt", "map_points.txt"})
     EXPECT_FALSE(fs::exists(out_dir + "/" + f)) << f;
 }
@@ -299,26 +301,29 @@ TEST(SystemBadInput, ConfigWithWrongType) {
 
 TEST(SystemBadInput, MapInliersFlaggedOutOfRange) {
   for (const std::string v : {"0", "1.5", "-0.2", "abc"})
-    expectConfigRejected("dynamic:\n  max_map_inliers_flagged: " + v + "\n", "max_map_inliers_flagged");
+    expectConfigRejected("dynamic:\n  max_map_inliers_flagged: " + v + "\n",
+                         "max_map_inliers_flagged");
 }
 
 TEST(SystemBadInput, BoxMaskValuesOutOfRange) {
   for (const std::string v : {"-0.1", "1.5", "abc"})
-    expectConfigRejected("dynamic:\n  box_mask:\n    connected_step: " + v + "\n", "connected_step");
+    expectConfigRejected("dynamic:\n  box_mask:\n    connected_step: " + v + "\n",
+                         "connected_step");
   for (const std::string v : {"0", "-1"})
     expectConfigRejected("dynamic:\n  box_mask:\n    depth_band_m: " + v + "\n", "depth_band_m");
 }
 
 TEST(SystemBadInput, RemovedDynamicKeysAreUnknown) {
   // The mechanisms they tuned are gone (the motion check runs after tracking).
-  for (const std::string k : {"max_motion_fraction: 0.7", "recheck_disagreement_px: 1.5",
-                              "carry_last_regions: true"})
+  for (const std::string k :
+       {"max_motion_fraction: 0.7", "recheck_disagreement_px: 1.5", "carry_last_regions: true"})
     expectConfigRejected("dynamic:\n  " + k + "\n", k.substr(0, k.find(':')));
 }
 
 TEST(SystemBadInput, DetectorIntervalBelowOne) {
   for (const std::string v : {"0", "-2", "abc"})
-    expectConfigRejected("dynamic:\n  detector:\n    interval_frames: " + v + "\n", "interval_frames");
+    expectConfigRejected("dynamic:\n  detector:\n    interval_frames: " + v + "\n",
+                         "interval_frames");
 }
 
 TEST(SystemBadInput, BaLagBelowOne) {
@@ -389,18 +394,21 @@ TEST(SystemDynamic, DetectAndFlowOnStaticSequence) {
   std::string first;
   for (int run = 0; run < 2; ++run) {
     const std::string out = d / ("out" + std::to_string(run));
-    const CommandResult r = runDynslam({"run", rpyDir(), "-o", out, "--mode", "detect+flow",
-                                        "--max-frames", "30"});
+    const CommandResult r =
+        runDynslam({"run", rpyDir(), "-o", out, "--mode", "detect+flow", "--max-frames", "30"});
     ASSERT_EQ(r.exit_code, 0) << r.output;
-    cv::FileStorage report(out + "/report.json", cv::FileStorage::READ | cv::FileStorage::FORMAT_JSON);
+    cv::FileStorage report(out + "/report.json",
+                           cv::FileStorage::READ | cv::FileStorage::FORMAT_JSON);
     ASSERT_TRUE(report.isOpened());
     EXPECT_EQ(static_cast<int>(report["tracked_frames"]), 30);
     EXPECT_EQ(static_cast<std::string>(report["mode"]), "detect+flow");
     const double flagged = report["dynamic"]["flagged_fraction"];
     EXPECT_GT(static_cast<int>(report["dynamic"]["detector_runs"]), 0);
     EXPECT_LT(flagged, 0.2);
-    if (run == 0) first = readText(out + "/trajectory.txt");
-    else EXPECT_EQ(readText(out + "/trajectory.txt"), first);
+    if (run == 0)
+      first = readText(out + "/trajectory.txt");
+    else
+      EXPECT_EQ(readText(out + "/trajectory.txt"), first);
   }
 }
 
@@ -472,7 +480,8 @@ std::string gapSequence(const TempDir& d, std::size_t from, std::size_t to) {
     for (std::string line; std::getline(in, line);) {
       if (line.empty() || line[0] == '#') continue;
       const double t = std::stod(line);
-      if (t < pairs[30] - 0.01 || (t > pairs[from] - 0.01 && t < pairs[to] - 0.01)) out << line << "\n";
+      if (t < pairs[30] - 0.01 || (t > pairs[from] - 0.01 && t < pairs[to] - 0.01))
+        out << line << "\n";
     }
   }
   return seq;
@@ -606,14 +615,15 @@ TEST(SystemDynamic, ScoresAgainstTrueMasksOfAComposite) {
   ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
   auto scores = [&](const std::string& mode) {
     const std::string out = d / ("out_" + mode);
-    const CommandResult r =
-        runDynslam({"run", seq, "-o", out, "--mode", mode});
+    const CommandResult r = runDynslam({"run", seq, "-o", out, "--mode", mode});
     EXPECT_EQ(r.exit_code, 0) << r.output;
-    cv::FileStorage report(out + "/report.json", cv::FileStorage::READ | cv::FileStorage::FORMAT_JSON);
+    cv::FileStorage report(out + "/report.json",
+                           cv::FileStorage::READ | cv::FileStorage::FORMAT_JSON);
     EXPECT_TRUE(report.isOpened());
     cv::FileNode m = report["mask_scores"];
     EXPECT_EQ(static_cast<int>(m["frames_scored"]), 30);
-    EXPECT_EQ(static_cast<int>(m["per_frame_walker_points_flagged_static_points_flagged"].size()), 30);
+    EXPECT_EQ(static_cast<int>(m["per_frame_walker_points_flagged_static_points_flagged"].size()),
+              30);
     // The flags tracking used, before the judgement after tracking replaced them.
     const cv::FileNode before = m["before_tracking"];
     EXPECT_TRUE(before.isMap());
@@ -634,8 +644,8 @@ TEST(SystemDynamic, ScoresAgainstTrueMasksOfAComposite) {
                       static_cast<double>(m["false_rejection_rate"]))
           << "judgement changed nothing";
     }
-    return std::make_tuple(static_cast<int>(m["walker_points"]), static_cast<int>(m["walker_flagged"]),
-                           static_cast<double>(m["recall"]),
+    return std::make_tuple(static_cast<int>(m["walker_points"]),
+                           static_cast<int>(m["walker_flagged"]), static_cast<double>(m["recall"]),
                            static_cast<double>(m["false_rejection_rate"]));
   };
   const auto [walkers_off, flagged_off, recall_off, false_off] = scores("off");

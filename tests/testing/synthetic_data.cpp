@@ -30,16 +30,18 @@ namespace {
 std::string cacheKey(const synth::SyntheticSequenceParams& p) {
   std::ostringstream s;
   s.precision(17);
-  s << p.seed << ' ' << p.width << ' ' << p.height << ' ' << p.fx << ' ' << p.fy << ' ' << p.rgb_noise;
+  s << p.seed << ' ' << p.width << ' ' << p.height << ' ' << p.fx << ' ' << p.fy << ' '
+    << p.rgb_noise;
   const auto& r = p.room;
-  s << ' ' << r.size_x << ' ' << r.size_y << ' ' << r.height << ' ' << r.panel_width << ' ' << r.boxes
-    << ' ' << r.movers << ' ' << r.mover_speed << ' ' << r.mover_travel;
+  s << ' ' << r.size_x << ' ' << r.size_y << ' ' << r.height << ' ' << r.panel_width << ' '
+    << r.boxes << ' ' << r.movers << ' ' << r.mover_speed << ' ' << r.mover_travel;
   const auto& c = p.path;
-  s << ' ' << c.laps << ' ' << c.frames_per_lap << ' ' << c.fps << ' ' << c.radius_x << ' ' << c.radius_y
-    << ' ' << c.height << ' ' << c.yaw_offset_deg << ' ' << c.pitch_deg << ' ' << c.wobble;
+  s << ' ' << c.laps << ' ' << c.frames_per_lap << ' ' << c.fps << ' ' << c.radius_x << ' '
+    << c.radius_y << ' ' << c.height << ' ' << c.yaw_offset_deg << ' ' << c.pitch_deg << ' '
+    << c.wobble;
   const auto& d = p.depth;
-  s << ' ' << d.noise_scale << ' ' << d.min_depth << ' ' << d.max_depth << ' ' << d.edge_dropout << ' '
-    << d.depth_scale;
+  s << ' ' << d.noise_scale << ' ' << d.min_depth << ' ' << d.max_depth << ' ' << d.edge_dropout
+    << ' ' << d.depth_scale;
   const fs::path lib = fs::path(DYNSLAM_TESTING_BINARY_DIR) / "lib/synth/libdynslam_synth.a";
   std::error_code ec;
   const auto t = fs::last_write_time(lib, ec);
@@ -93,7 +95,10 @@ synth::SyntheticSequenceParams moverParams() {
 }
 
 SyntheticData::SyntheticData(const synth::SyntheticSequenceParams& p)
-    : p_(p), dir_(cachedSequence(p)), source_(openSequence(dir_)), geometry_(synth::sequenceGeometry(p)) {}
+    : p_(p),
+      dir_(cachedSequence(p)),
+      source_(openSequence(dir_)),
+      geometry_(synth::sequenceGeometry(p)) {}
 
 SyntheticData::~SyntheticData() = default;
 
@@ -125,7 +130,9 @@ cv::Mat SyntheticData::mask(std::size_t i) const {
   return m;
 }
 
-Trajectory SyntheticData::groundtruth() const { return readTumTrajectory(dir_ + "/groundtruth.txt"); }
+Trajectory SyntheticData::groundtruth() const {
+  return readTumTrajectory(dir_ + "/groundtruth.txt");
+}
 
 const SyntheticData& twoLapData() {
   static const SyntheticData data(twoLapParams());

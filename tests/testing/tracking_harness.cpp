@@ -18,7 +18,8 @@ SlamConfig harnessConfig() {
 TrackingHarness::TrackingHarness(const PinholeCamera& camera, const SlamConfig& config,
                                  bool place_recognition)
     : cfg_(config), ctx_(std::make_shared<FrameContext>()), orb_(config.orb) {
-  const double close = cfg_.system.close_depth > 0 ? cfg_.system.close_depth : 40.0 * cfg_.system.bf / camera.fx;
+  const double close =
+      cfg_.system.close_depth > 0 ? cfg_.system.close_depth : 40.0 * cfg_.system.bf / camera.fx;
   ctx_->init(camera, cfg_.system.bf, close, cfg_.orb.n_levels, cfg_.orb.scale_factor);
   ctx_->depth_edge_window = cfg_.system.depth_edge_window;
   ctx_->depth_edge_ratio = cfg_.system.depth_edge_ratio;
@@ -34,11 +35,10 @@ TrackingHarness::TrackingHarness(const PinholeCamera& camera, const SlamConfig& 
   }
 }
 
-TrackingHarness::~TrackingHarness() {
-  mapper_->stop();
-}
+TrackingHarness::~TrackingHarness() { mapper_->stop(); }
 
-std::shared_ptr<FeatureSet> TrackingHarness::features(const RGBDFrame& frame, const cv::Mat& dynamic) {
+std::shared_ptr<FeatureSet> TrackingHarness::features(const RGBDFrame& frame,
+                                                      const cv::Mat& dynamic) {
   cv::Mat gray;
   cv::cvtColor(frame.rgb, gray, cv::COLOR_BGR2GRAY);
   auto f = std::make_shared<FeatureSet>();
@@ -48,13 +48,15 @@ std::shared_ptr<FeatureSet> TrackingHarness::features(const RGBDFrame& frame, co
   if (!dynamic.empty())
     for (std::size_t i = 0; i < f->keys.size(); ++i) {
       const cv::Point p(cvRound(f->keys[i].pt.x), cvRound(f->keys[i].pt.y));
-      if (p.inside(cv::Rect(0, 0, dynamic.cols, dynamic.rows)) && dynamic.at<uint8_t>(p) != 0) f->dynamic[i] = 1;
+      if (p.inside(cv::Rect(0, 0, dynamic.cols, dynamic.rows)) && dynamic.at<uint8_t>(p) != 0)
+        f->dynamic[i] = 1;
     }
   f->finalize(frame.depth, frame.rgb);
   return f;
 }
 
-TrackResult TrackingHarness::track(std::shared_ptr<FeatureSet> f, std::size_t index, double timestamp,
+TrackResult TrackingHarness::track(std::shared_ptr<FeatureSet> f, std::size_t index,
+                                   double timestamp,
                                    const std::function<bool(FeatureSet&)>& revise) {
   TrackResult r;
   {

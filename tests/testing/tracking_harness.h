@@ -28,7 +28,8 @@ class TrackingHarness : public KeyFrameSink {
  public:
   /// place_recognition: index keyframes by bag of words for relocalisation
   /// (loop closing itself off).
-  TrackingHarness(const PinholeCamera& camera, const SlamConfig& config, bool place_recognition = false);
+  TrackingHarness(const PinholeCamera& camera, const SlamConfig& config,
+                  bool place_recognition = false);
   ~TrackingHarness() override;
 
   /// ORB features of the frame with depth; `dynamic` (CV_8U, non-zero =

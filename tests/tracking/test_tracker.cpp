@@ -278,7 +278,8 @@ TEST(Tracker, KeypointsFlaggedDynamicNeverMatchTheMap) {
     ++n;
     off_room += data.geometry().distanceToStatic(data.roomPosition(*mp)) > 0.15;
   }
-  RecordProperty("points_off_room", static_cast<int>(off_room));  // measured 15 (depth-edge keypoints)
+  RecordProperty("points_off_room",
+                 static_cast<int>(off_room));  // measured 15 (depth-edge keypoints)
   EXPECT_LT(off_room, 0.02 * n);
 }
 
