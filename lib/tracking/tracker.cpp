@@ -41,9 +41,11 @@ TrackResult Tracker::estimatePose(std::shared_ptr<const FeatureSet> features, st
     }
   } else {
     bool ok = false;
+    unpredicted_motion_ = false;
     if (state_ == TrackingState::kOk) {
       if (p_.temporal_points) updateLastFrame();
       ok = velocity_valid_ && trackWithMotionModel();
+      unpredicted_motion_ = velocity_valid_ && !ok;
       if (!ok) ok = trackReferenceKeyFrame();
     } else {
       // Lost: recent keyframes by appearance, pose by PnP (bag-of-words
@@ -494,11 +496,14 @@ bool Tracker::needNewKeyFrame() const {
   // weakens.
   const long spacing = std::min<long>(p_.min_frames_between_kf, static_cast<long>(n_kfs / 4));
   const bool c1b = cur_.id >= last_kf_frame_id_ + spacing;
-  const bool c1c = inliers_ < ref_matches * 0.25 || need_close;
-  const bool c2 = (inliers_ < ref_matches * ratio || need_close) && inliers_ > 15;
+  const bool c1c = inliers_ < ref_matches * 0.25 || need_close || unpredicted_motion_;
+  const bool c2 =
+      (inliers_ < ref_matches * ratio || need_close || unpredicted_motion_) && inliers_ > 15;
   logf(LogLevel::kTrace, "track",
-       "kf decision: inliers %d ref_matches %d close %d/%d c1a %d c1b %d c1c %d c2 %d", inliers_,
-       ref_matches, close_tracked, close_untracked, c1a, c1b, c1c, c2);
+       "kf decision: inliers %d ref_matches %d close %d/%d unpredicted %d c1a %d c1b %d c1c %d "
+       "c2 %d",
+       inliers_, ref_matches, close_tracked, close_untracked, unpredicted_motion_ ? 1 : 0, c1a, c1b,
+       c1c, c2);
   return (c1a || c1b || c1c) && c2;
 }
 

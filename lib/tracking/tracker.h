@@ -162,6 +162,12 @@ class Tracker {
   KeyFrame* last_kf_ = nullptr;
   long last_kf_frame_id_ = 0;
   int inliers_ = 0;
+  /// This frame: the motion model was tried and failed, so the pose came from
+  /// the reference keyframe. Such a frame becomes a keyframe: the camera moved
+  /// faster than predicted, into a view the map barely covers (only the
+  /// reference keyframe's points matched), and the next frames track against
+  /// it; without it the next frame's pose is not determined by the map.
+  bool unpredicted_motion_ = false;
   std::vector<KeyFrame*> local_kfs_;
   std::vector<MapPoint*> local_points_;
   std::vector<std::unique_ptr<MapPoint>> temp_points_;

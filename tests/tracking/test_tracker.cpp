@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <cmath>
 #include <set>
+#include <string>
 
 #include "testing/synthetic_data.h"
 #include "testing/tracking_harness.h"
@@ -132,12 +133,17 @@ TEST(Tracker, FallsBackToTheReferenceKeyFrameAfterAnUnpredictedJump) {
   EXPECT_TRUE(h.tracker().relocalisations().empty());
 }
 
-// A silent failure found by the test above when the jumps continue (30 ->
-// 35 -> 40 -> 45, constant 5-frame steps the motion model does predict):
-// frames 40 and 45 are reported tracked (state ok) 45 cm and 36 cm from the
-// truth. Not fixed yet (issue 15); the frames see a photo whose large plain
-// carpet and a mirrored copy of another photo leave few distinct corners.
-TEST(Tracker, DISABLED_FiveFrameStepsStayAtTheTruth) {
+// The jumps continue (30 -> 35 -> 40 -> 45, 5-frame steps of 0.25-0.3 m and
+// 12-19 deg): every frame is tracked and every step's motion is within 2 cm
+// of the truth. Frame 35's jump defeats the motion model (its velocity spans
+// one frame), so the reference keyframe tracks it - and then it must become a
+// keyframe (Tracker::unpredicted_motion_): without one the map covers too
+// little of frame 40's view (a photo's plain carpet, a new photo at the left
+// edge) to fix its pose - even from the true pose the optimiser settles 16 cm
+// away - and frames 40 and 45 were reported tracked, their steps 45 cm and
+// 11 cm off.
+// Measured: steps within 1, 1 and 11 mm.
+TEST(Tracker, FiveFrameStepsStayAtTheTruth) {
   const SyntheticData& data = twoLapData();
   SlamConfig cfg = harnessConfig();
   cfg.tracker.reloc_min_matches = 1 << 30;
@@ -148,7 +154,9 @@ TEST(Tracker, DISABLED_FiveFrameStepsStayAtTheTruth) {
     const TrackResult r = h.track(data.frame(i));
     ASSERT_TRUE(r.has_pose) << i;
     est[i] = r.pose_wc;
-    EXPECT_LT(relativeError(data, i - 5, est[i - 5], i, est[i]), 0.02) << i;
+    const double err = relativeError(data, i - 5, est[i - 5], i, est[i]);
+    RecordProperty("step_error_mm_" + std::to_string(i), static_cast<int>(1000 * err));
+    EXPECT_LT(err, 0.02) << i;
   }
 }
 
