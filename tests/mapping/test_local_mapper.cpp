@@ -191,11 +191,15 @@ TEST(MapBAProblem, FreeKeyFramesReturnToTheTruth) {
 // A slow camera (each view shown three times) with a keyframe whenever the
 // tracker allows one: most keyframes are redundant (their close points are
 // seen by three other keyframes) and are culled; the first one never is.
-// Disabled: a finding of issue 15. Of 32 keyframes made for 30 views 3 cm
-// apart none is culled (stats.culled_keyframes == 0): each keyframe makes
-// new points from depth for every close keypoint the tracker did not match,
-// and those are rarely seen by three later keyframes, so the 90 % share of
-// redundant close points is never reached. To be looked into in the mapper.
+// Disabled: a finding of issue 15. Of 31 keyframes made for 30 views 3 cm
+// apart none is culled (stats.culled_keyframes == 0). Measured per culling
+// pass: 78-82 % of a keyframe's close points are seen by three other
+// keyframes at a comparable scale (needed: 90 %); the rest are mostly points
+// seen by only one or two others (10-15 % of them), made from depth for
+// close keypoints the tracker did not match. Culling new points seen by
+// fewer than 3 keyframes (min_observations 3 instead of 2) lifts the share
+// to 88-90 % and culls 7 keyframes, still short of the third expected here;
+// not adopted without benchmark runs. To be looked into in the mapper.
 TEST(LocalMapper, DISABLED_CullsRedundantKeyFrames) {
   const SyntheticData& data = twoLapData();
   SlamConfig cfg = harnessConfig();
