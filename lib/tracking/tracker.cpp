@@ -496,9 +496,11 @@ bool Tracker::needNewKeyFrame() const {
   // weakens.
   const long spacing = std::min<long>(p_.min_frames_between_kf, static_cast<long>(n_kfs / 4));
   const bool c1b = cur_.id >= last_kf_frame_id_ + spacing;
-  const bool c1c = inliers_ < ref_matches * 0.25 || need_close || unpredicted_motion_;
-  const bool c2 =
-      (inliers_ < ref_matches * ratio || need_close || unpredicted_motion_) && inliers_ > 15;
+  // A view the map barely covers: too few close points tracked, or reached
+  // by a motion the motion model did not predict.
+  const bool uncovered_view = need_close || unpredicted_motion_;
+  const bool c1c = inliers_ < ref_matches * 0.25 || uncovered_view;
+  const bool c2 = (inliers_ < ref_matches * ratio || uncovered_view) && inliers_ > 15;
   logf(LogLevel::kTrace, "track",
        "kf decision: inliers %d ref_matches %d close %d/%d unpredicted %d c1a %d c1b %d c1c %d "
        "c2 %d",
