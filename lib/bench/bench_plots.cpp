@@ -3,10 +3,14 @@
 #include <cstdio>
 
 #include "bench/trajectory_plots.h"
+#include "core/png_file.h"
 #include "core/run_layout.h"
 #include "core/trajectory.h"
 
 namespace dynslam {
+
+// Best PNG compression: the plots are committed under docs/.
+constexpr int kPlotCompression = 9;
 
 void writeBenchPlots(BenchReport& report, const std::string& out_dir,
                      const std::function<void(const std::string&)>& progress) {
@@ -29,14 +33,16 @@ void writeBenchPlots(BenchReport& report, const std::string& out_dir,
         const TrajectoryPlotData data = TrajectoryPlotData::fromAte(gt, est, run->evaluation->ate);
         char ate[64];
         std::snprintf(ate, sizeof ate, ": ATE RMSE %.4f m", run->evaluation->ate.stats.rmse);
-        writePng(out_dir + "/" + rel + "trajectory_top.png", TopViewPlot(data).render(label + ate));
+        writePngAtomically(out_dir + "/" + rel + "trajectory_top.png",
+                           TopViewPlot(data).render(label + ate), kPlotCompression);
         report.addPlot(m.sequence, m.mode, rel + "trajectory_top.png");
-        writePng(out_dir + "/" + rel + "trajectory_xyz.png",
-                 plotPositionsOverTime(data, label + ": position against time"));
+        writePngAtomically(out_dir + "/" + rel + "trajectory_xyz.png",
+                           plotPositionsOverTime(data, label + ": position against time"),
+                           kPlotCompression);
         report.addPlot(m.sequence, m.mode, rel + "trajectory_xyz.png");
       }
-      writePng(out_dir + "/" + rel + "frame_times.png",
-               plotFrameTimes(run->times, label + ": time per frame"));
+      writePngAtomically(out_dir + "/" + rel + "frame_times.png",
+                         plotFrameTimes(run->times, label + ": time per frame"), kPlotCompression);
       report.addPlot(m.sequence, m.mode, rel + "frame_times.png");
     } catch (const std::exception& e) {
       if (progress) progress("plot of " + label + " failed: " + e.what());

@@ -1,6 +1,5 @@
 #include "bench/trajectory_plots.h"
 
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include <algorithm>
@@ -8,7 +7,6 @@
 #include <cstdio>
 #include <limits>
 
-#include "core/atomic_file.h"
 #include "core/stats.h"
 
 namespace dynslam {
@@ -285,19 +283,6 @@ cv::Mat plotFrameTimes(const FrameTimes& ft, const std::string& title, cv::Size 
               {track_colour, "tracking stage"},
               {median_colour, median_text}});
   return img;
-}
-
-void writePng(const std::string& path, const cv::Mat& image) {
-  std::vector<uint8_t> png;
-  // Best compression: these files are committed under docs/.
-  if (!cv::imencode(".png", image, png, {cv::IMWRITE_PNG_COMPRESSION, 9}))
-    throw std::runtime_error(path + ": PNG encoding failed");
-  writeFileAtomically(
-      path,
-      [&](std::ostream& os) {
-        os.write(reinterpret_cast<const char*>(png.data()), std::streamsize(png.size()));
-      },
-      true);
 }
 
 }  // namespace dynslam

@@ -64,7 +64,4 @@ cv::Mat plotPositionsOverTime(const TrajectoryPlotData& data, const std::string&
 cv::Mat plotFrameTimes(const FrameTimes& times, const std::string& title,
                        cv::Size size = {1000, 450});
 
-/// Writes a PNG atomically (core/atomic_file.h); throws on failure.
-void writePng(const std::string& path, const cv::Mat& image);
-
 }  // namespace dynslam

@@ -10,12 +10,12 @@
 
 #include "cli/commands.h"
 #include "core/errors.h"
+#include "core/png_file.h"
 #include "core/trajectory.h"
 #include "mapexport/map_data.h"
 #include "mapexport/up_estimation.h"
 #include "occupancy/octomap_file.h"
 #include "render/map_renderer.h"
-#include "render/snapshot_file.h"
 #include "render/view_spec.h"
 
 namespace dynslam::cli {

@@ -2,9 +2,8 @@
 
 #include <cstdio>
 
-#include <opencv2/imgcodecs.hpp>
-
 #include "core/atomic_file.h"
+#include "core/png_file.h"
 
 namespace dynslam {
 
@@ -44,15 +43,7 @@ void RunRecorder::writeKeyFrameMasks(const RunLayout& layout) const {
   // Per-keyframe dynamic pixels, so `dynslam export` leaves movers out.
   makeDirectories(layout.dynamicMasksDir());
   for (const auto& [t, mask] : keyframe_masks_) {
-    std::vector<uint8_t> png;
-    cv::imencode(".png", mask, png);
-    writeFileAtomically(
-        layout.dynamicMask(t),
-        [&](std::ostream& os) {
-          os.write(reinterpret_cast<const char*>(png.data()),
-                   static_cast<std::streamsize>(png.size()));
-        },
-        true);
+    writePngAtomically(layout.dynamicMask(t), mask);
   }
 }
 

@@ -17,6 +17,7 @@
 #include "bench/child_process.h"
 #include "bench/run_outputs.h"
 #include "bench/trajectory_plots.h"
+#include "core/png_file.h"
 #include "core/trajectory.h"
 #include "eval/trajectory_eval.h"
 #include "rawlog/sequence_source.h"
@@ -375,7 +376,7 @@ TEST(TrajectoryPlots, FrameTimesAndPositionsRender) {
   EXPECT_EQ(xyz.size(), cv::Size(800, 600));
   EXPECT_LT(cv::mean(xyz)[0], 255);  // something was drawn
   TempDir tmp;
-  writePng(tmp / "t.png", times);
+  writePngAtomically(tmp / "t.png", times, 9);
   EXPECT_EQ(cv::imread(tmp / "t.png").size(), times.size());
 }
 

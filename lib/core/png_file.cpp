@@ -1,4 +1,4 @@
-#include "render/snapshot_file.h"
+#include "core/png_file.h"
 
 #include <opencv2/imgcodecs.hpp>
 
@@ -9,9 +9,11 @@
 
 namespace dynslam {
 
-void writePngAtomically(const std::string& path, const cv::Mat& image) {
+void writePngAtomically(const std::string& path, const cv::Mat& image, int compression) {
+  std::vector<int> params;
+  if (compression >= 0) params = {cv::IMWRITE_PNG_COMPRESSION, compression};
   std::vector<unsigned char> png;
-  if (image.empty() || !cv::imencode(".png", image, png)) {
+  if (image.empty() || !cv::imencode(".png", image, png, params)) {
     throw std::runtime_error(path + ": cannot encode PNG");
   }
   writeFileAtomically(
