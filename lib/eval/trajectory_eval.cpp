@@ -3,6 +3,7 @@
 #include <Eigen/Geometry>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -154,12 +155,28 @@ std::vector<Eigen::Vector3d> alignedEstimatePositions(const Trajectory& estimate
 
 Trajectory groundtruthInEstimateFrame(const Trajectory& groundtruth, const Trajectory& estimate,
                                       double max_dt) {
-  const AteResult ate = computeAte(groundtruth, estimate, max_dt);
-  mrpt::math::CMatrixDouble44 inverse;
-  const Eigen::Matrix4d inv = ate.alignment.inverse();
+  const AteResult ate = computeAte(groundtruth, estimate, max_dt);  // association and checks
+  const double d = kSceneAlignmentDepth;
+  const std::array<Eigen::Vector3d, 6> body = {
+      Eigen::Vector3d(0, 0, 0),          Eigen::Vector3d(0, 0, d),
+      Eigen::Vector3d(0.5 * d, 0, d),    Eigen::Vector3d(-0.5 * d, 0, d),
+      Eigen::Vector3d(0, 0.5 * d, d),    Eigen::Vector3d(0, -0.5 * d, d)};
+  const Eigen::Index n = Eigen::Index(ate.matches.size() * body.size());
+  Eigen::Matrix3Xd p_gt(3, n), p_est(3, n);
+  Eigen::Index col = 0;
+  for (const auto& [gt_index, est_index] : ate.matches) {
+    const Eigen::Isometry3d g = toIsometry(groundtruth[gt_index].pose);
+    const Eigen::Isometry3d e = toIsometry(estimate[est_index].pose);
+    for (const Eigen::Vector3d& b : body) {
+      p_gt.col(col) = g * b;
+      p_est.col(col++) = e * b;
+    }
+  }
+  const Eigen::Matrix4d inv = Eigen::umeyama(p_gt, p_est, /*with_scaling=*/false);
+  mrpt::math::CMatrixDouble44 gt_to_est;
   for (int r = 0; r < 4; ++r)
-    for (int c = 0; c < 4; ++c) inverse(r, c) = inv(r, c);
-  const mrpt::poses::CPose3D gt_to_estimate(inverse);
+    for (int c = 0; c < 4; ++c) gt_to_est(r, c) = inv(r, c);
+  const mrpt::poses::CPose3D gt_to_estimate(gt_to_est);
   Trajectory out;
   out.reserve(ate.matches.size());
   for (const auto& [gt_index, est_index] : ate.matches) {

@@ -114,15 +114,18 @@ void FreeSpaceCarver::addKeyframe(const cv::Mat& depth, const mrpt::poses::CPose
   keyframes_.push_back(std::move(kf));
 }
 
-bool FreeSpaceCarver::removes(const CarvingVotes& v, bool apply_min_confirmations) const {
+CarveRule FreeSpaceCarver::rule(const CarvingVotes& v, bool apply_min_confirmations) const {
   const std::size_t needed =
       std::min<std::size_t>(std::size_t(options_.min_confirmations), keyframes_.size());
-  if (apply_min_confirmations && v.confirmed < needed) return true;
+  if (apply_min_confirmations && v.confirmed < needed) return CarveRule::kUnconfirmed;
   if (options_.dynamic_ratio > 0 && v.dynamic >= 1 &&
       double(v.dynamic) >= options_.dynamic_ratio * v.confirmed) {
-    return true;
+    return CarveRule::kDynamic;
   }
-  return v.through >= options_.min_views && double(v.through) > options_.ratio * v.confirmed;
+  if (v.through >= options_.min_views && double(v.through) > options_.ratio * v.confirmed) {
+    return CarveRule::kSeenThrough;
+  }
+  return CarveRule::kKept;
 }
 
 std::vector<CarvingVotes> FreeSpaceCarver::votes(const ColoredCloud& cloud) const {
@@ -233,12 +236,18 @@ std::vector<CarvingVotes> FreeSpaceCarver::votes(const ColoredCloud& cloud) cons
 
 std::vector<std::uint8_t> FreeSpaceCarver::keepFlags(const ColoredCloud& cloud,
                                                      bool apply_min_confirmations) const {
-  const std::vector<CarvingVotes> v = votes(cloud);
+  const std::vector<CarveRule> r = rules(cloud, apply_min_confirmations);
   std::vector<std::uint8_t> keep(cloud.size());
-  for (std::size_t i = 0; i < cloud.size(); ++i) {
-    keep[i] = removes(v[i], apply_min_confirmations) ? 0 : 1;
-  }
+  for (std::size_t i = 0; i < cloud.size(); ++i) keep[i] = r[i] == CarveRule::kKept ? 1 : 0;
   return keep;
+}
+
+std::vector<CarveRule> FreeSpaceCarver::rules(const ColoredCloud& cloud,
+                                              bool apply_min_confirmations) const {
+  const std::vector<CarvingVotes> v = votes(cloud);
+  std::vector<CarveRule> out(cloud.size());
+  for (std::size_t i = 0; i < cloud.size(); ++i) out[i] = rule(v[i], apply_min_confirmations);
+  return out;
 }
 
 ColoredCloud FreeSpaceCarver::carve(const ColoredCloud& cloud, CarvingStats* stats) const {

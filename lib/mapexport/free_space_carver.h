@@ -80,6 +80,10 @@ struct CarvingVotes {
   std::uint16_t dynamic = 0;    ///< keyframes whose depth agreed on a dynamic-mask pixel
 };
 
+/// Which removal rule a point's votes meet first (kKept: none), in the
+/// order removes() checks them; the export reports a count per rule.
+enum class CarveRule : std::uint8_t { kKept, kUnconfirmed, kDynamic, kSeenThrough };
+
 struct CarvingStats {
   std::size_t points = 0;   ///< points voted on
   std::size_t removed = 0;  ///< points carved away
@@ -105,7 +109,12 @@ class FreeSpaceCarver {
   std::vector<CarvingVotes> votes(const ColoredCloud& cloud) const;
   /// The removal rule applied to one point's votes; without
   /// apply_min_confirmations only the free-space and dynamic rules.
-  bool removes(const CarvingVotes& v, bool apply_min_confirmations = true) const;
+  bool removes(const CarvingVotes& v, bool apply_min_confirmations = true) const {
+    return rule(v, apply_min_confirmations) != CarveRule::kKept;
+  }
+  CarveRule rule(const CarvingVotes& v, bool apply_min_confirmations = true) const;
+  /// One rule per point (kKept = kept).
+  std::vector<CarveRule> rules(const ColoredCloud& cloud, bool apply_min_confirmations = true) const;
   /// One flag per point: 1 = kept, 0 = carved.
   std::vector<std::uint8_t> keepFlags(const ColoredCloud& cloud,
                                       bool apply_min_confirmations = true) const;

@@ -7,7 +7,7 @@
 //   occupancy_map:
 //     resolution: 0.05          # m; OctoMap leaf and 2D grid cell size
 //     prob_hit: 0.7             # OctoMap sensor model: endpoint of a ray
-//     prob_miss: 0.4            # ... a cell the ray passes through
+//     prob_miss: 0.3            # ... a cell the ray passes through
 //     floor_min_area: 0.5       # m^2; lowest layer of occupied cells this large is the floor
 //     grid_floor_height: 0.10   # m above the floor; lower cells are floor, not obstacles
 //     grid_robot_height: 1.20   # m above the floor; higher cells do not block the robot
@@ -20,7 +20,7 @@ namespace dynslam {
 struct OccupancyMapOptions {
   double resolution = 0.05;
   double prob_hit = 0.7;
-  double prob_miss = 0.4;
+  double prob_miss = 0.3;
   double floor_min_area = 0.5;
   double grid_floor_height = 0.10;
   double grid_robot_height = 1.20;

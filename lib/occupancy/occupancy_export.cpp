@@ -52,6 +52,9 @@ void writeReport(const std::string& path, const RunDirectory& run, const FrameSo
       .value("free_cells", r.cells.free)
       .value("occupied_before_carving", r.stats.occupied_before_carving)
       .value("carved_cells", r.stats.carved_cells)
+      .value("carved_unconfirmed", r.stats.carved_unconfirmed)
+      .value("carved_dynamic", r.stats.carved_dynamic)
+      .value("carved_seen_through", r.stats.carved_seen_through)
       .value("seconds", r.seconds)
       .value("cpu_seconds", r.cpu_seconds);
   j.beginObject("phase_seconds");

@@ -80,12 +80,16 @@ void OccupancyMapBuilder::build() {
   std::vector<std::uint8_t> keep(occupied.size(), 1);
   if (carver_ && carver_->keyframes() > 1) {
     const auto t0 = SteadyClock::now();
-    keep = carver_->keepFlags(centroids);
+    const std::vector<CarveRule> rules = carver_->rules(centroids);
     const float free_value = tree_->getClampingThresMinLog();
     for (std::size_t i = 0; i < occupied.size(); ++i) {
-      if (keep[i]) continue;
+      if (rules[i] == CarveRule::kKept) continue;
+      keep[i] = 0;
       tree_->setNodeValue(occupied[i], free_value, /*lazy_eval=*/true);
       stats_.carved_cells++;
+      if (rules[i] == CarveRule::kUnconfirmed) stats_.carved_unconfirmed++;
+      if (rules[i] == CarveRule::kDynamic) stats_.carved_dynamic++;
+      if (rules[i] == CarveRule::kSeenThrough) stats_.carved_seen_through++;
     }
     tree_->updateInnerOccupancy();
     stats_.carving_seconds = secondsSince(t0);

@@ -358,6 +358,12 @@ TEST(FreeSpaceCarver, RemovalRuleCountsDynamicVotesAndConfirmations) {
   EXPECT_FALSE(carver.removes(votes(0, 4, 3)));         // outvoted by the confirmations
   EXPECT_TRUE(carver.removes(votes(0, 2, 3), false));
   EXPECT_TRUE(carver.removes(votes(4, 3, 0)));  // free space still applies (4 > 3)
+  // The rule named is the first that holds, in the order above.
+  EXPECT_EQ(carver.rule(votes(0, 3, 0)), CarveRule::kKept);
+  EXPECT_EQ(carver.rule(votes(9, 2, 9)), CarveRule::kUnconfirmed);
+  EXPECT_EQ(carver.rule(votes(9, 3, 3)), CarveRule::kDynamic);
+  EXPECT_EQ(carver.rule(votes(4, 3, 0)), CarveRule::kSeenThrough);
+  EXPECT_EQ(carver.rule(votes(9, 2, 0), false), CarveRule::kSeenThrough);
   o.dynamic_ratio = 0;                          // off
   const FreeSpaceCarver no_dynamic(projector(), o);
   EXPECT_FALSE(no_dynamic.removes(votes(0, 1, 9), false));

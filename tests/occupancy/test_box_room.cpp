@@ -224,7 +224,9 @@ TEST(BoxRoomOctoMap, OccupiedAndFreeCellsMatchTheRoom) {
   const BoxRoom room;
   const BuiltRoom& b = plainRoom();
   const auto& tree = b.builder->tree();
-  EXPECT_EQ(b.builder->stats().keyframes, room.size());
+  const OccupancyMapStats& s = b.builder->stats();
+  EXPECT_EQ(s.keyframes, room.size());
+  EXPECT_EQ(s.carved_unconfirmed + s.carved_dynamic + s.carved_seen_through, s.carved_cells);
   checkOccupiedCellsLieOnSurfaces(room, tree);
   checkWallsCovered(room, tree);
   checkRaysAreFree(room, tree);
