@@ -137,8 +137,8 @@ int exportMain(int argc, char** argv) {
   TCLAP::ValueArg<std::string> groundtruth_arg(
       "", "groundtruth",
       "fuse with these groundtruth poses (TUM format) instead of the run's: each keyframe takes "
-      "the groundtruth pose at its time, taken into the run's world frame by the ATE "
-      "alignment of the keyframes (reference maps)",
+      "the groundtruth pose at its time, taken into the run's world frame by the rigid "
+      "alignment that best overlays the scene 2 m ahead of every keyframe (reference maps)",
       false, "", "FILE", cmd);
   TCLAP::ValueArg<double> resolution_arg(
       "", "resolution",
