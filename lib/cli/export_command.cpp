@@ -55,7 +55,7 @@ void printOccupancyExport(const OccupancyExportResult& r) {
       "%s: %zu occupied and %zu free cells (%zu occupied before carving, %zu carved) from "
       "%zu keyframes (%zu rays) in %.2f s (CPU %.2f s), peak %.0f MB\n",
       r.output.c_str(), r.cells.occupied, r.cells.free, r.stats.occupied_before_carving,
-      r.stats.carved_cells, r.stats.keyframes, r.stats.rays, r.seconds, r.cpu_seconds,
+      r.stats.carvedCells(), r.stats.keyframes, r.stats.rays, r.seconds, r.cpu_seconds,
       r.peak_rss_mb);
   std::printf("up %.4f,%.4f,%.4f (%s), floor at %.3f m (%s)\n", r.up.up[0], r.up.up[1], r.up.up[2],
               r.up.source.c_str(), r.level.floor_height, r.level.floor_source.c_str());

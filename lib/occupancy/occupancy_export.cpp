@@ -51,7 +51,7 @@ void writeReport(const std::string& path, const RunDirectory& run, const FrameSo
       .value("occupied_cells", r.cells.occupied)
       .value("free_cells", r.cells.free)
       .value("occupied_before_carving", r.stats.occupied_before_carving)
-      .value("carved_cells", r.stats.carved_cells)
+      .value("carved_cells", r.stats.carvedCells())
       .value("carved_unconfirmed", r.stats.carved_unconfirmed)
       .value("carved_dynamic", r.stats.carved_dynamic)
       .value("carved_seen_through", r.stats.carved_seen_through)

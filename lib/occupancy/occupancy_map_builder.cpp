@@ -86,10 +86,12 @@ void OccupancyMapBuilder::build() {
       if (rules[i] == CarveRule::kKept) continue;
       keep[i] = 0;
       tree_->setNodeValue(occupied[i], free_value, /*lazy_eval=*/true);
-      stats_.carved_cells++;
-      if (rules[i] == CarveRule::kUnconfirmed) stats_.carved_unconfirmed++;
-      if (rules[i] == CarveRule::kDynamic) stats_.carved_dynamic++;
-      if (rules[i] == CarveRule::kSeenThrough) stats_.carved_seen_through++;
+      switch (rules[i]) {
+        case CarveRule::kUnconfirmed: stats_.carved_unconfirmed++; break;
+        case CarveRule::kDynamic: stats_.carved_dynamic++; break;
+        case CarveRule::kSeenThrough: stats_.carved_seen_through++; break;
+        case CarveRule::kKept: break;
+      }
     }
     tree_->updateInnerOccupancy();
     stats_.carving_seconds = secondsSince(t0);

@@ -42,10 +42,13 @@ struct OccupancyMapStats {
   std::size_t keyframes = 0;
   std::size_t rays = 0;                     ///< static pixels ray cast
   std::size_t occupied_before_carving = 0;  ///< cells
-  std::size_t carved_cells = 0;             ///< occupied cells that carving set free...
-  std::size_t carved_unconfirmed = 0;       ///< ... by too few confirmations,
-  std::size_t carved_dynamic = 0;           ///< ... by the dynamic-mask votes,
-  std::size_t carved_seen_through = 0;      ///< ... by the seen-through votes
+  /// Occupied cells that carving set free, by the rule that removed them.
+  std::size_t carved_unconfirmed = 0;   ///< too few confirmations
+  std::size_t carved_dynamic = 0;       ///< the dynamic-mask votes
+  std::size_t carved_seen_through = 0;  ///< the seen-through votes
+  std::size_t carvedCells() const {
+    return carved_unconfirmed + carved_dynamic + carved_seen_through;
+  }
   double ray_casting_seconds = 0;
   double carving_seconds = 0;
 };
