@@ -173,10 +173,8 @@ Trajectory groundtruthInEstimateFrame(const Trajectory& groundtruth, const Traje
     }
   }
   const Eigen::Matrix4d inv = Eigen::umeyama(p_gt, p_est, /*with_scaling=*/false);
-  mrpt::math::CMatrixDouble44 gt_to_est;
-  for (int r = 0; r < 4; ++r)
-    for (int c = 0; c < 4; ++c) gt_to_est(r, c) = inv(r, c);
-  const mrpt::poses::CPose3D gt_to_estimate(gt_to_est);
+  const mrpt::poses::CPose3D gt_to_estimate = mrpt::poses::CPose3D::FromRotationAndTranslation(
+      Eigen::Matrix3d(inv.topLeftCorner<3, 3>()), Eigen::Vector3d(inv.topRightCorner<3, 1>()));
   Trajectory out;
   out.reserve(ate.matches.size());
   for (const auto& [gt_index, est_index] : ate.matches) {

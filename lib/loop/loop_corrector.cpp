@@ -27,15 +27,7 @@ struct RigidMotion {
   /// A camera-to-world pose carried along by the same motion.
   mrpt::poses::CPose3D operator()(const mrpt::poses::CPose3D& wc) const {
     const CameraPose c(wc);
-    const Eigen::Matrix3d Rn = R * c.Rwc();
-    const Eigen::Vector3d tn = (*this)(c.center());
-    mrpt::math::CMatrixDouble44 M;
-    M.setIdentity();
-    for (int i = 0; i < 3; ++i) {
-      for (int j = 0; j < 3; ++j) M(i, j) = Rn(i, j);
-      M(i, 3) = tn(i);
-    }
-    return mrpt::poses::CPose3D(M);
+    return mrpt::poses::CPose3D::FromRotationAndTranslation(R * c.Rwc(), (*this)(c.center()));
   }
 };
 

@@ -11,16 +11,6 @@ namespace dynslam::loop {
 
 namespace {
 
-mrpt::poses::CPose3D toPose(const Eigen::Matrix3d& R, const Eigen::Vector3d& t) {
-  mrpt::math::CMatrixDouble44 M;
-  M.setIdentity();
-  for (int r = 0; r < 3; ++r) {
-    for (int c = 0; c < 3; ++c) M(r, c) = R(r, c);
-    M(r, 3) = t(r);
-  }
-  return mrpt::poses::CPose3D(M);
-}
-
 bool projectsInFront(const Eigen::Vector3d& p) { return p.z() > 1e-6; }
 
 }  // namespace
@@ -235,7 +225,7 @@ RigidAlignment RigidAligner::align(const std::vector<PointCorrespondence>& c) co
   if (!wellSpread(c, idx)) return out;
 
   out.ok = true;
-  out.T_ab = toPose(R, t);
+  out.T_ab = mrpt::poses::CPose3D::FromRotationAndTranslation(R, t);
   out.inliers = cur;
   out.n_inliers = cur_n;
   out.rms_px = std::sqrt(cur_err / (2.0 * std::max(1, cur_n)));

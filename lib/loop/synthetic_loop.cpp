@@ -11,17 +11,10 @@ namespace {
 /// (world z up).
 mrpt::poses::CPose3D circlePose(double r, double th) {
   const Eigen::Vector3d z(std::cos(th), std::sin(th), 0), y(0, 0, -1);
-  const Eigen::Vector3d x = y.cross(z);
-  mrpt::math::CMatrixDouble44 M;
-  M.setIdentity();
-  for (int i = 0; i < 3; ++i) {
-    M(i, 0) = x(i);
-    M(i, 1) = y(i);
-    M(i, 2) = z(i);
-  }
-  M(0, 3) = r * std::cos(th);
-  M(1, 3) = r * std::sin(th);
-  return mrpt::poses::CPose3D(M);
+  Eigen::Matrix3d R;
+  R << y.cross(z), y, z;
+  return mrpt::poses::CPose3D::FromRotationAndTranslation(
+      R, Eigen::Vector3d(r * std::cos(th), r * std::sin(th), 0));
 }
 
 }  // namespace

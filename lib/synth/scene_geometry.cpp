@@ -18,16 +18,9 @@ Eigen::Vector3d toLocal(const mrpt::poses::CPose3D& pose, const Eigen::Vector3d&
 
 mrpt::poses::CPose3D frameFromAxes(const Eigen::Vector3d& c, const Eigen::Vector3d& u,
                                    const Eigen::Vector3d& v) {
-  const Eigen::Vector3d n = u.cross(v);
-  mrpt::math::CMatrixDouble44 M;
-  M.setIdentity();
-  for (int i = 0; i < 3; ++i) {
-    M(i, 0) = u(i);
-    M(i, 1) = v(i);
-    M(i, 2) = n(i);
-    M(i, 3) = c(i);
-  }
-  return mrpt::poses::CPose3D(M);
+  Eigen::Matrix3d R;
+  R << u, v, u.cross(v);
+  return mrpt::poses::CPose3D::FromRotationAndTranslation(R, c);
 }
 
 double distanceToQuad(const TexturedQuad& q, const Eigen::Vector3d& p) {

@@ -5,7 +5,9 @@
 
 #include <mrpt/poses/Lie/SE.h>
 
+#include <Eigen/Core>
 #include <opencv2/calib3d.hpp>
+#include <opencv2/core/eigen.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -295,13 +297,11 @@ bool Tracker::relocalize() {
     // PnP gives world -> camera; keep only its inliers for the refinement.
     cv::Mat R;
     cv::Rodrigues(rvec, R);
-    mrpt::math::CMatrixDouble44 Tcw;
-    Tcw.setIdentity();
-    for (int r = 0; r < 3; ++r) {
-      for (int c = 0; c < 3; ++c) Tcw(r, c) = R.at<double>(r, c);
-      Tcw(r, 3) = tvec.at<double>(r);
-    }
-    cur_.setPose(-mrpt::poses::CPose3D(Tcw));
+    Eigen::Matrix3d Rcw;
+    Eigen::Vector3d tcw;
+    cv::cv2eigen(R, Rcw);
+    cv::cv2eigen(tvec, tcw);
+    cur_.setPose(-mrpt::poses::CPose3D::FromRotationAndTranslation(Rcw, tcw));
     std::vector<uint8_t> keep(cur_.points.size(), 0);
     for (int k : inliers) keep[idx[k]] = 1;
     for (std::size_t i = 0; i < cur_.points.size(); ++i)
