@@ -244,6 +244,10 @@ TEST_F(SavedMap, SecondSessionGoesOnInTheMapAndSavesItGrown) {
 // when it was made (60 frames: 9 kfs, ATE 0.0391 m, second session +62 %;
 // whole: 36 kfs, 2922 points, 10 x the frame rate, but ATE 0.0261 against
 // 0.0208 m, second session 36 -> 45 kfs, 2922 -> 3624 points, ATE 0.0246 m).
+// Also dropped (2026-12-04): no point from depth for a keypoint that an
+// unmatched local-map point projects onto (within 2 / 3 px x level scale,
+// depth within 5 %): whole sequence +13.7 % / +26 %, but first-session ATE
+// 0.0258 / 0.0326 against 0.0221 m (docs/benchmarks.md).
 // The old bound here (1.5 x) was not the acceptance and failed too (3098
 // against 3043).
 TEST_F(SavedMap, DISABLED_SecondSessionGrowsTheMapByLessThanTenPercent) {

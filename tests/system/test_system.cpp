@@ -590,7 +590,12 @@ TEST(SystemRpy, RelocalisesAfterAJumpAcrossTheSequence) {
 
 // Known defect (issue 15 note): in the run above, the last 5 frames (pairs
 // 335..339) are off by 21-23 cm, without a relocalisation or loop closure in
-// the report: tracking follows a wrong pose at the end. Enable when fixed.
+// the report: tracking follows a wrong pose at the end. Measured 2026-12-04:
+// frame to frame the estimate moves 2-5 cm in frames 59-64 (groundtruth
+// 0.1-0.3 cm), then 15 cm and 3 deg into frame 66 (a keyframe made on weak
+// tracking), with 93-153 depth-backed inliers; the same without the final
+// global BA. The young map made after the relocalised pose (4 cm off) is the
+// suspect. Enable when fixed.
 TEST(SystemRpy, DISABLED_TracksToTheEndAfterARelocalisation) {
   TempDir d;
   const GapRun g = runGap(d, 300, 340);
