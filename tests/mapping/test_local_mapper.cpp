@@ -205,9 +205,10 @@ TEST(LocalMapper, CullsRedundantKeyFrames) {
   cfg.tracker.max_frames_between_kf = 1;
   cfg.tracker.min_frames_between_kf = 1;
   TrackingHarness h(data.camera(), cfg);
+  constexpr std::size_t kViews = 15, kFramesPerView = 4;
   std::size_t made = 0;
-  for (std::size_t k = 0; k < 60; ++k) {
-    const std::size_t i = k / 4;
+  for (std::size_t k = 0; k < kViews * kFramesPerView; ++k) {
+    const std::size_t i = k / kFramesPerView;
     RGBDFrame f = data.frame(i);
     f.index = k;
     f.timestamp = data.frame(0).timestamp + k / 30.0;
@@ -219,13 +220,12 @@ TEST(LocalMapper, CullsRedundantKeyFrames) {
   const auto stats = h.mapper().stats();
   RecordProperty("keyframes_made", static_cast<int>(made));
   RecordProperty("keyframes_culled", static_cast<int>(stats.culled_keyframes));
-  constexpr std::size_t kViews = 15;
   EXPECT_GE(made, 3 * kViews);
   EXPECT_GE(stats.culled_keyframes, kViews - 3);
   std::lock_guard<std::mutex> lk(h.map().mutex());
   EXPECT_EQ(h.map().keyFrameCount(), made - stats.culled_keyframes);
   EXPECT_EQ(h.map().keyFrames().front()->id, 0);
   std::set<std::size_t> views;
-  for (const KeyFrame* kf : h.map().keyFrames()) views.insert(kf->frame_index / 4);
+  for (const KeyFrame* kf : h.map().keyFrames()) views.insert(kf->frame_index / kFramesPerView);
   EXPECT_EQ(views.size(), kViews);
 }
