@@ -1,6 +1,7 @@
 #include "bench/bench_plan.h"
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <map>
 #include <stdexcept>
@@ -12,6 +13,7 @@
 #include "core/shell_quote.h"
 #include "core/yaml_writer.h"
 #include "rawlog/sequence_source.h"
+#include "system/system_config.h"
 
 namespace dynslam {
 
@@ -55,6 +57,12 @@ std::vector<std::string> sequenceNames(const std::vector<std::string>& sequences
   return names;
 }
 
+double spreadFactor(int run, int runs) { return 1.0 + (run - (runs + 1) / 2.0) / 30.0; }
+
+std::string spreadConfigPath(const BenchOptions& o, int run) {
+  return o.out_dir + "/spread/run" + std::to_string(run) + ".yaml";
+}
+
 BenchPlan makeBenchPlan(const BenchOptions& o) {
   validateBenchOptions(o);
   BenchPlan plan;
@@ -83,7 +91,10 @@ BenchPlan makeBenchPlan(const BenchOptions& o) {
           r.argv.push_back("--max-frames");
           r.argv.push_back(std::to_string(o.max_frames));
         }
-        if (!o.config.empty()) {
+        if (o.spread) {
+          r.argv.push_back("--config");
+          r.argv.push_back(absolute(spreadConfigPath(o, run)));
+        } else if (!o.config.empty()) {
           r.argv.push_back("--config");
           r.argv.push_back(absolute(o.config));
         }
@@ -113,9 +124,29 @@ void writeBenchPlan(const BenchPlan& plan) {
       .value("modes", o.modes)
       .value("runs", o.runs)
       .value("max_frames", o.max_frames)
-      .value("config", o.config);
+      .value("config", o.config)
+      .value("spread", o.spread);
   const std::string text = w.str();
+  // The spread configs are made before anything is written: a config that
+  // does not load leaves no output folder behind.
+  std::vector<std::string> spread_yaml;
+  if (o.spread) {
+    const SlamConfig base = loadSlamConfig(o.config.empty() ? defaultSlamConfigPath() : o.config);
+    for (int run = 1; run <= o.runs; ++run) {
+      const double f = spreadFactor(run, o.runs);
+      SlamConfig c = base;
+      c.orb.n_features = int(std::lround(base.orb.n_features * f));
+      if (base.dynamic.orb_features > 0)
+        c.dynamic.orb_features = int(std::lround(base.dynamic.orb_features * f));
+      spread_yaml.push_back(slamConfigYaml(c));
+    }
+  }
   makeDirectories(o.out_dir);
+  for (std::size_t k = 0; k < spread_yaml.size(); ++k) {
+    const std::string path = spreadConfigPath(o, int(k) + 1);
+    makeDirectories(fs::path(path).parent_path().string());
+    writeFileAtomically(path, [&](std::ostream& os) { os << spread_yaml[k]; });
+  }
   writeFileAtomically(o.out_dir + "/" + kBenchPlanFile, [&](std::ostream& os) { os << text; });
 }
 
@@ -133,7 +164,8 @@ BenchPlan readBenchPlan(const std::string& out_dir, const std::string& dynslam_b
       .readList("modes", o.modes)
       .read("runs", o.runs)
       .read("max_frames", max_frames)
-      .read("config", o.config);
+      .read("config", o.config)
+      .read("spread", o.spread);
   root.rejectUnknownKeys();
   if (max_frames < 0) throw InputError(path, "max_frames must be >= 0");
   o.max_frames = std::size_t(max_frames);

@@ -23,7 +23,21 @@ struct BenchOptions {
   std::string out_dir;
   std::string dynslam_binary;  ///< the `dynslam` executable to run
   int jobs = 1;                ///< runs at a time (BenchRunner)
+  /// Runs repeat byte for byte, so N runs of one configuration are one
+  /// result. With spread, run k of N instead uses the configuration with its
+  /// keypoint budgets (orb.n_features, dynamic.orb_features) scaled by
+  /// spreadFactor(k, N): the median and range over the runs then say how
+  /// much a result moves under a small change of the input.
+  bool spread = false;
 };
+
+/// The keypoint-budget factor of run k (1-based) of n under
+/// BenchOptions::spread: steps of 1/30 centred on 1 (n = 5: 0.933, 0.967,
+/// 1, 1.033, 1.067; 1500 keypoints become 1400 ... 1600).
+double spreadFactor(int run, int runs);
+
+/// The config file of run k under BenchOptions::spread (in the output folder).
+std::string spreadConfigPath(const BenchOptions& options, int run);
 
 /// Throws std::invalid_argument (bad modes, runs < 1, jobs < 1, no
 /// sequences, no output folder) or InputError (a sequence or the config does
@@ -65,9 +79,10 @@ std::string benchJobScript(const BenchPlan& plan);
 
 /// The plan file in the output folder, read by `--collect`.
 constexpr const char* kBenchPlanFile = "bench_plan.yaml";
-/// Writes the plan's options (sequences, modes, runs, max_frames, config) as
-/// YAML, atomically, to its output folder's kBenchPlanFile (the folder is
-/// created if missing).
+/// Writes the plan's options (sequences, modes, runs, max_frames, config,
+/// spread) as YAML, atomically, to its output folder's kBenchPlanFile (the
+/// folder is created if missing), and with spread each run's config
+/// (spreadConfigPath: the effective config of `config`, budgets scaled).
 void writeBenchPlan(const BenchPlan& plan);
 /// The plan of the benchmark whose output folder is `out_dir` (its
 /// kBenchPlanFile), with the runs laid out under `out_dir`. Throws InputError

@@ -189,6 +189,7 @@ std::string BenchReport::json() const {
   for (const auto& m : o.modes) w.element(m);
   w.endArray();
   w.value("runs", o.runs)
+      .value("spread", o.spread)
       .value("max_frames", o.max_frames)
       .value("config", o.config.empty() ? std::string("(default)") : o.config)
       .value("rpe_delta", "1 s")
@@ -291,6 +292,9 @@ std::string BenchReport::markdown() const {
                       : std::string("whole sequences"))
      << ", config "
      << (o.config.empty() ? std::string("`configs/dynslam.yaml`") : "`" + o.config + "`")
+     << (o.spread ? ", run k of N at the keypoint budgets scaled by 1 + (k - (N+1)/2)/30 "
+                    "(`--spread`: runs repeat byte for byte, so the spread comes from the input)"
+                  : std::string())
      << ". Cells are the median over runs with [min–max]; \"identical\" after the run count: every "
         "run wrote byte-identical trajectory, keyframes and map points, so there is one result, "
         "not a spread. ATE and RPE are computed as `dynslam eval` "

@@ -1,4 +1,4 @@
-// `dynslam bench SEQ... -o OUT_DIR [--modes LIST] [--runs N] [--max-frames N]
+// `dynslam bench SEQ... -o OUT_DIR [--modes LIST] [--runs N [--spread]] [--max-frames N]
 // [--config FILE] [--jobs N | --emit-jobs FILE] [--plots]` and `dynslam bench
 // --collect OUT_DIR [--plots]`: argument layer over lib/bench. Each run is
 // this same executable (/proc/self/exe) started as `dynslam run`, so the
@@ -57,6 +57,13 @@ int benchMain(int argc, char** argv) {
       "the product; add off for the improvement table)",
       false, "detect+flow", "LIST", cmd);
   TCLAP::ValueArg<int> runs_arg("", "runs", "runs per sequence and mode", false, 3, "N", cmd);
+  TCLAP::SwitchArg spread_arg(
+      "", "spread",
+      "runs repeat byte for byte, so the runs of one config are one result: with --spread, run "
+      "k of N uses the config with its keypoint budgets (orb.n_features, dynamic.orb_features) "
+      "scaled by 1 + (k - (N+1)/2)/30 (N = 5: 1400 ... 1600 for 1500), so that the median and "
+      "[min-max] say how much a result moves under a small change of the input",
+      cmd);
   // Signed, so that -1 is seen (as size_t it would wrap to "all frames").
   TCLAP::ValueArg<long long> max_frames_arg(
       "", "max-frames", "process only the first N frames of each sequence", false, 0, "N", cmd);
@@ -93,8 +100,8 @@ int benchMain(int argc, char** argv) {
   std::unique_ptr<BenchReport> report;
   if (collect_arg.isSet()) {
     for (const TCLAP::Arg* a :
-         std::vector<const TCLAP::Arg*>{&seq_arg, &out_arg, &modes_arg, &runs_arg, &max_frames_arg,
-                                        &config_arg, &jobs_arg, &emit_arg})
+         std::vector<const TCLAP::Arg*>{&seq_arg, &out_arg, &modes_arg, &runs_arg, &spread_arg,
+                                        &max_frames_arg, &config_arg, &jobs_arg, &emit_arg})
       if (a->isSet())
         throw UsageError("--collect takes the plan of its folder: no " +
                          (a == &seq_arg ? std::string("sequences") : "--" + a->getName()));
@@ -114,6 +121,7 @@ int benchMain(int argc, char** argv) {
     o.sequences = seq_arg.getValue();
     o.modes = splitList(modes_arg.getValue());
     o.runs = runs_arg.getValue();
+    o.spread = spread_arg.getValue();
     o.max_frames = static_cast<std::size_t>(max_frames_arg.getValue());
     o.config = config_arg.getValue();
     o.out_dir = out_arg.getValue();

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 #include <sys/stat.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -16,6 +17,7 @@
 #include "bench/bench_runner.h"
 #include "core/errors.h"
 #include "rawlog/sequence_source.h"
+#include "system/system_config.h"
 #include "testing/test_support.h"
 
 namespace dynslam {
@@ -123,6 +125,59 @@ TEST(BenchJobs, EmittedCommandsThenCollectGiveTheSameReport) {
   EXPECT_EQ(plain_plan.runs[0].dir, tmp / "plain/rgbd_dataset_freiburg1_rpy/off/run1");
 }
 
+// --spread: run k of N gets the effective config with both keypoint budgets
+// scaled by 1 + (k - (N+1)/2)/30, computed here by hand from the defaults
+// (orb.n_features 1000, dynamic.orb_features 1500) and from a user config.
+TEST(BenchJobs, SpreadRunsScaleTheKeypointBudgets) {
+  TempDir tmp;
+  BenchOptions o = fakeOptions(tmp, tmp / "spread");
+  o.modes = {"off"};
+  o.runs = 5;
+  o.spread = true;
+  EXPECT_DOUBLE_EQ(spreadFactor(1, 5), 1.0 - 2.0 / 30.0);
+  EXPECT_DOUBLE_EQ(spreadFactor(3, 5), 1.0);
+  EXPECT_DOUBLE_EQ(spreadFactor(2, 4), 1.0 - 0.5 / 30.0);
+  const BenchPlan plan = makeBenchPlan(o);
+  ASSERT_EQ(plan.runs.size(), 5u);
+  writeBenchPlan(plan);
+  const int orb[] = {933, 967, 1000, 1033, 1067}, dyn[] = {1400, 1450, 1500, 1550, 1600};
+  for (int k = 1; k <= 5; ++k) {
+    const auto& argv = plan.runs[std::size_t(k - 1)].argv;
+    const auto at = std::find(argv.begin(), argv.end(), "--config");
+    ASSERT_NE(at, argv.end());
+    ASSERT_NE(at + 1, argv.end());
+    EXPECT_EQ(*(at + 1), fs::absolute(spreadConfigPath(o, k)).lexically_normal().string());
+    const SlamConfig c = loadSlamConfig(spreadConfigPath(o, k));
+    EXPECT_EQ(c.orb.n_features, orb[k - 1]) << "run " << k;
+    EXPECT_EQ(c.dynamic.orb_features, dyn[k - 1]) << "run " << k;
+  }
+  // The plan file keeps it, so --collect lays out the same runs.
+  const BenchPlan read = readBenchPlan(o.out_dir, o.dynslam_binary);
+  EXPECT_TRUE(read.options.spread);
+  ASSERT_EQ(read.runs.size(), 5u);
+  EXPECT_EQ(read.runs[4].argv, plan.runs[4].argv);
+
+  // From a user config; a dynamic budget of 0 (keep orb.n_features) stays 0.
+  test::writeText(tmp / "mine.yaml", "orb:\n  n_features: 2000\ndynamic:\n  orb_features: 0\n");
+  o.config = tmp / "mine.yaml";
+  o.out_dir = tmp / "mine";
+  o.runs = 3;
+  writeBenchPlan(makeBenchPlan(o));
+  const int mine[] = {1933, 2000, 2067};
+  for (int k = 1; k <= 3; ++k) {
+    const SlamConfig c = loadSlamConfig(spreadConfigPath(o, k));
+    EXPECT_EQ(c.orb.n_features, mine[k - 1]) << "run " << k;
+    EXPECT_EQ(c.dynamic.orb_features, 0) << "run " << k;
+  }
+  // Without --spread the runs take the user's config as it is.
+  o.spread = false;
+  const BenchPlan plain = makeBenchPlan(o);
+  const auto& argv = plain.runs[0].argv;
+  const auto at = std::find(argv.begin(), argv.end(), "--config");
+  ASSERT_NE(at, argv.end());
+  EXPECT_EQ(*(at + 1), fs::absolute(o.config).lexically_normal().string());
+}
+
 TEST(BenchJobs, BadOptionsAreRejected) {
   TempDir tmp;
   BenchOptions o = fakeOptions(tmp, tmp / "out");
@@ -149,6 +204,8 @@ TEST(BenchJobsCli, BadArgumentsExit2) {
       {"bench", "--collect", out, seq},
       {"bench", "--collect", out, "--jobs", "2"},
       {"bench", "--collect", out, "--modes", "off"},
+      {"bench", "--collect", out, "--spread"},
+      {"bench", seq, "-o", out, "--spread", "--runs", "0"},
       {"bench", seq, "-o", out, "--jobs", "0"},
       {"bench", seq, "-o", out, "--jobs", "two"},
       {"bench", seq, "-o", out, "--emit-jobs", tmp / "jobs.txt", "--jobs", "2"},
@@ -165,6 +222,20 @@ TEST(BenchJobsCli, BadArgumentsExit2) {
   }
   EXPECT_FALSE(fs::exists(tmp / "jobs.txt"));
   EXPECT_FALSE(fs::exists(out + "/report.json"));
+}
+
+// A config that does not load is a bad file (exit 1) naming it; with
+// --spread it is read before any run, and nothing is written.
+TEST(BenchJobsCli, SpreadOfABadConfigFailsNamingItAndWritesNothing) {
+  TempDir tmp;
+  const std::string out = tmp / "out";
+  test::writeText(tmp / "bad.yaml", "orb:\n  n_featurez: 900\n");
+  const auto r = test::runDynslam(
+      {"bench", test::rpyDir(), "-o", out, "--spread", "--config", tmp / "bad.yaml"});
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("bad.yaml"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("n_featurez"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(out)) << r.output;
 }
 
 TEST(BenchJobsCli, CollectOfMissingOrPartialRunsFailsNamingThem) {
