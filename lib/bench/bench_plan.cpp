@@ -142,11 +142,10 @@ void writeBenchPlan(const BenchPlan& plan) {
     }
   }
   makeDirectories(o.out_dir);
-  for (std::size_t k = 0; k < spread_yaml.size(); ++k) {
-    const std::string path = spreadConfigPath(o, int(k) + 1);
-    makeDirectories(fs::path(path).parent_path().string());
-    writeFileAtomically(path, [&](std::ostream& os) { os << spread_yaml[k]; });
-  }
+  if (!spread_yaml.empty()) makeDirectories(fs::path(spreadConfigPath(o, 1)).parent_path().string());
+  for (std::size_t k = 0; k < spread_yaml.size(); ++k)
+    writeFileAtomically(spreadConfigPath(o, int(k) + 1),
+                        [&](std::ostream& os) { os << spread_yaml[k]; });
   writeFileAtomically(o.out_dir + "/" + kBenchPlanFile, [&](std::ostream& os) { os << text; });
 }
 
