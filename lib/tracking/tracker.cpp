@@ -28,6 +28,7 @@ void Tracker::startInMap(bool frozen) {
   // Frame ids go on after the saved session's (keyframes carry them).
   for (KeyFrame* kf : map_.keyFrames()) next_frame_id_ = std::max(next_frame_id_, kf->frame_id + 1);
   last_kf_frame_id_ = next_frame_id_;
+  loaded_frame_end_ = next_frame_id_;
 }
 
 TrackResult Tracker::estimatePose(std::shared_ptr<const FeatureSet> features, std::size_t index,
@@ -500,7 +501,12 @@ bool Tracker::needNewKeyFrame() const {
   // by a motion the motion model did not predict.
   const bool uncovered_view = need_close || unpredicted_motion_;
   const bool c1c = inliers_ < ref_matches * 0.25 || uncovered_view;
-  const bool c2 = (inliers_ < ref_matches * ratio || uncovered_view) && inliers_ > 15;
+  // A reference from a loaded map holds the points of a whole session's
+  // keyframes around it, more than one frame tracks wherever it is: against
+  // it only a view the map does not cover asks for a keyframe.
+  const bool loaded_ref = ref_kf_ && ref_kf_->frame_id < loaded_frame_end_;
+  const bool weak = loaded_ref ? uncovered_view : inliers_ < ref_matches * ratio || uncovered_view;
+  const bool c2 = weak && inliers_ > 15;
   logf(LogLevel::kTrace, "track",
        "kf decision: inliers %d ref_matches %d close %d/%d unpredicted %d c1a %d c1b %d c1c %d "
        "c2 %d",

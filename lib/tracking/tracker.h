@@ -30,6 +30,7 @@ struct TrackerParams {
   /// a young map less: one frame per 4 keyframes in the map, up to this.
   int min_frames_between_kf = 5;
   double kf_ref_ratio = 0.75;       ///< new keyframe when tracked < ratio x reference's points
+                                    ///< (not when the reference came from a loaded map)
   int kf_close_tracked_max = 100;   ///< ...or when few close points are tracked
   int kf_close_untracked_min = 70;  ///< ...and many close points are not
   int kf_min_new_points = 100;      ///< map points a new keyframe creates from depth, at least
@@ -179,6 +180,9 @@ class Tracker {
   TrackResult pending_;
   bool pending_open_ = false;
   bool frozen_ = false;  ///< startInMap(true): the map is never changed
+  /// startInMap(): keyframes of frames before this one came from the loaded
+  /// map (-1: none did).
+  long loaded_frame_end_ = -1;
 };
 
 }  // namespace dynslam

@@ -23,6 +23,7 @@
 #include <optional>
 
 #include "core/trajectory.h"
+#include "eval/trajectory_eval.h"
 #include "testing/test_support.h"
 
 using namespace dynslam;
@@ -200,7 +201,8 @@ TEST_F(SavedMap, SecondSessionGoesOnInTheMapAndSavesItGrown) {
   ASSERT_GE(report["relocalisations"].size(), 1u);
   EXPECT_LE(static_cast<int>(report["relocalisations"][0]["frame"]), 2);
   // The saved map holds the loaded keyframes and more points than half the
-  // loaded ones (how many more: SecondSessionGrowsTheMapByLessThanTenPercent).
+  // loaded ones (how many more, on the whole sequence:
+  // SecondSession.OnTheWholeOfFr1RpyGrowsTheMapByLessThanTenPercent).
   EXPECT_GE(static_cast<int>(report["keyframes"]), static_cast<int>(mapped["keyframes"]));
   EXPECT_GT(static_cast<int>(report["map_points"]), static_cast<int>(mapped["map_points"]) / 2);
   EXPECT_GT(fs::file_size(second + "/map.dsm"), fs::file_size(mapFile()) / 2);
@@ -214,51 +216,43 @@ TEST_F(SavedMap, SecondSessionGoesOnInTheMapAndSavesItGrown) {
   EXPECT_LT(e.mean_rot, mapped_err.mean_rot + 0.5);
 }
 
-// DISABLED (issue 18, open): the issue's acceptance, growth < 10 %, is not
-// met. Measured 2026-12-02 (--mode off --deterministic): on these 60 frames
-// 2029 -> 3098 map points (+53 %), 14 -> 25 keyframes; on the whole fr1_rpy
-// 12598 -> 26319 (+109 %), 276 -> 469 keyframes (543 inserted, 350 culled).
-// Cause (traced with --log-level trace): the keyframe test compares the
-// frame's tracked points with its reference keyframe's points that another
-// keyframe also observes (Tracker::needNewKeyFrame, kf_ref_ratio 0.75). That
-// count grows with the keyframes around the reference (later keyframes
-// observe its points, fusion gives it the neighbours' points): in the
-// 60-frame map keyframe 2 has 294 such points when made and 340 when loaded,
-// keyframe 4 272 when made and 480 by the second session's frame 13. A
-// single frame tracks ~200-450 wherever it is, so against any mature
-// reference the test fires, and every keyframe added makes the next one's
-// reference denser. Of the 11 keyframes the second session adds on 60
-// frames, 8 reference a loaded keyframe; on the whole sequence the same
-// feedback already drives the first session (keyframes on 22 % of frames
-// 0-99, on 84 % of frames 300-499, where the reference's count is ~510 and
-// the frame tracks ~340) and the second one from its first frames (54 %,
-// then 73-90 %). Each keyframe then adds ~500 points from depth for its
-// untracked close keypoints; only ~1/4 of them lie within 2 cm and 4 px of a
-// map point (most are keypoints no keyframe had: ORB detections do not
-// repeat from frame to frame), and those of the last keyframes outlive the
-// run (probation counts keyframes). Tried and dropped (each measured on both
-// sessions): counting only the reference's points that keyframes older than
-// it observe (60 frames: 12 kfs, ATE 0.0335 against 0.0273 m, second session
-// +26 %; whole: 235 kfs, ATE 0.0226 against 0.0208 m, second session 235 ->
-// 441 kfs, 10919 -> 24584 points) and the reference frame's own tracked count
-// when it was made (60 frames: 9 kfs, ATE 0.0391 m, second session +62 %;
-// whole: 36 kfs, 2922 points, 10 x the frame rate, but ATE 0.0261 against
-// 0.0208 m, second session 36 -> 45 kfs, 2922 -> 3624 points, ATE 0.0246 m).
-// Also dropped (2026-12-04): no point from depth for a keypoint that an
-// unmatched local-map point projects onto (within 2 / 3 px x level scale,
-// depth within 5 %): whole sequence +13.7 % / +26 %, but first-session ATE
-// 0.0258 / 0.0326 against 0.0221 m (docs/benchmarks.md).
-// The old bound here (1.5 x) was not the acceptance and failed too (3098
-// against 3043).
-TEST_F(SavedMap, DISABLED_SecondSessionGrowsTheMapByLessThanTenPercent) {
-  const std::string second = secondSession(dir_->path(), mapFile());
-  cv::FileStorage report(second + "/report.json",
-                         cv::FileStorage::READ | cv::FileStorage::FORMAT_JSON);
-  cv::FileStorage mapped(mapping() + "/report.json",
-                         cv::FileStorage::READ | cv::FileStorage::FORMAT_JSON);
-  ASSERT_TRUE(report.isOpened());
-  const int points_before = static_cast<int>(mapped["map_points"]);
-  EXPECT_LT(static_cast<int>(report["map_points"]), points_before * 11 / 10);
+// Issue 18's acceptance for a second session: mapping the whole of fr1_rpy
+// again on its own saved map (default mode) grows the map points by less
+// than 10 % and keeps the ATE within 1.1 x the first session's. What bounds
+// the growth: against a reference keyframe of the loaded map only a view
+// the map does not cover asks for a keyframe (Tracker::needNewKeyFrame).
+// With the reference-ratio test there too, keyframes came on most frames (a
+// loaded keyframe holds the points of a whole session's keyframes around
+// it, more than one frame tracks), and each turned its untracked keypoints
+// into points. Measured 2026-12-04: 6148 -> 6343 points (+3.2 %), 74 -> 77
+// keyframes, ATE 0.0221 -> 0.0223 m; without the rule 6148 -> 7563 (+23 %),
+// 92 keyframes. (Mode off grows by 8 % either way, 4757 -> 5156 / 5135; on
+// the first 60 frames alone by 19 %, 35 % without the rule: a map that short
+// has not covered the views its last frames see.)
+TEST(SecondSession, OnTheWholeOfFr1RpyGrowsTheMapByLessThanTenPercent) {
+  TempDir dir;
+  const std::string first = dir / "first", second = dir / "second";
+  CommandResult r = runDynslam({"run", rpyDir(), "--save-map", "-o", first});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  r = runDynslam({"run", rpyDir(), "--map", first + "/map.dsm", "--save-map", "-o", second});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  auto points = [](const std::string& run) {
+    cv::FileStorage report(run + "/report.json",
+                           cv::FileStorage::READ | cv::FileStorage::FORMAT_JSON);
+    EXPECT_TRUE(report.isOpened()) << run;
+    return static_cast<int>(report["map_points"]);
+  };
+  const int before = points(first), after = points(second);
+  RecordProperty("map_points", std::to_string(before) + " -> " + std::to_string(after));
+  EXPECT_GE(after, before);
+  EXPECT_LT(after, before * 11 / 10);
+  const Trajectory gt = readTumTrajectory(rpyDir() + "/groundtruth.txt");
+  const double ate_first = computeAte(gt, readTumTrajectory(first + "/trajectory.txt")).stats.rmse;
+  const double ate_second =
+      computeAte(gt, readTumTrajectory(second + "/trajectory.txt")).stats.rmse;
+  RecordProperty("ate_um", std::to_string(int(1e6 * ate_first)) + " -> " +
+                               std::to_string(int(1e6 * ate_second)));
+  EXPECT_LT(ate_second, 1.1 * ate_first);
 }
 
 TEST_F(SavedMap, ExportWorksOnALocalisationRun) {
