@@ -81,8 +81,7 @@ TEST(MapReuse, SecondPassRelocalisesIntoTheFirstPassMap) {
   r = runDynslam({"run", seq, "--mode", "off", "-o", twice});
   ASSERT_EQ(r.exit_code, 0) << r.output;
 
-  cv::FileStorage report(twice + "/report.json",
-                         cv::FileStorage::READ | cv::FileStorage::FORMAT_JSON);
+  cv::FileStorage report = openRunReport(twice);
   ASSERT_TRUE(report.isOpened());
   const cv::FileNode relocs = report["relocalisations"];
   ASSERT_TRUE(relocs.isSeq());

@@ -142,11 +142,9 @@ TEST_F(SavedMap, LocalisationTracksInTheMapsFrameAndLeavesItUnchanged) {
   EXPECT_TRUE(bytesOf(mapFile()) == before) << "the map file changed";
   EXPECT_FALSE(fs::exists(loc + "/map.dsm"));
 
-  cv::FileStorage report(loc + "/report.json",
-                         cv::FileStorage::READ | cv::FileStorage::FORMAT_JSON);
+  cv::FileStorage report = openRunReport(loc);
   ASSERT_TRUE(report.isOpened());
-  cv::FileStorage mapped(mapping() + "/report.json",
-                         cv::FileStorage::READ | cv::FileStorage::FORMAT_JSON);
+  cv::FileStorage mapped = openRunReport(mapping());
   EXPECT_EQ(static_cast<int>(report["loaded_map"]["unchanged"]), 1);
   EXPECT_EQ(static_cast<int>(report["keyframes"]), static_cast<int>(mapped["keyframes"]));
   EXPECT_EQ(static_cast<int>(report["map_points"]), static_cast<int>(mapped["map_points"]));
@@ -190,10 +188,8 @@ std::string secondSession(const std::string& dir, const std::string& map_file) {
 
 TEST_F(SavedMap, SecondSessionGoesOnInTheMapAndSavesItGrown) {
   const std::string second = secondSession(dir_->path(), mapFile());
-  cv::FileStorage report(second + "/report.json",
-                         cv::FileStorage::READ | cv::FileStorage::FORMAT_JSON);
-  cv::FileStorage mapped(mapping() + "/report.json",
-                         cv::FileStorage::READ | cv::FileStorage::FORMAT_JSON);
+  cv::FileStorage report = openRunReport(second);
+  cv::FileStorage mapped = openRunReport(mapping());
   ASSERT_TRUE(report.isOpened());
   EXPECT_EQ(static_cast<int>(report["loaded_map"]["keyframes"]),
             static_cast<int>(mapped["keyframes"]));
@@ -237,8 +233,7 @@ TEST(SecondSession, OnTheWholeOfFr1RpyGrowsTheMapByLessThanTenPercent) {
   r = runDynslam({"run", rpyDir(), "--map", first + "/map.dsm", "--save-map", "-o", second});
   ASSERT_EQ(r.exit_code, 0) << r.output;
   auto points = [](const std::string& run) {
-    cv::FileStorage report(run + "/report.json",
-                           cv::FileStorage::READ | cv::FileStorage::FORMAT_JSON);
+    cv::FileStorage report = openRunReport(run);
     EXPECT_TRUE(report.isOpened()) << run;
     return static_cast<int>(report["map_points"]);
   };

@@ -142,8 +142,7 @@ TEST(SystemRpy, First100FramesThroughLibrary) {
        {"trajectory.txt", "keyframes.txt", "map_points.txt", "run_info.yaml", "report.json"})
     EXPECT_TRUE(fs::is_regular_file(o.out_dir + "/" + f)) << f;
 
-  cv::FileStorage report(o.out_dir + "/report.json",
-                         cv::FileStorage::READ | cv::FileStorage::FORMAT_JSON);
+  cv::FileStorage report = openRunReport(o.out_dir);
   ASSERT_TRUE(report.isOpened());
   EXPECT_EQ(static_cast<int>(report["frames"]), 100);
   EXPECT_EQ(static_cast<int>(report["tracked_frames"]), 100);
@@ -232,8 +231,7 @@ TEST(SystemRpy, RawlogInput) {
   EXPECT_TRUE(contains(r.output, "40 frames, 40 tracked")) << r.output;
   const double rmse = checkRun(out, 40);
   RecordProperty("ate_rmse_mm", static_cast<int>(std::lround(rmse * 1000)));
-  cv::FileStorage report(out + "/report.json",
-                         cv::FileStorage::READ | cv::FileStorage::FORMAT_JSON);
+  cv::FileStorage report = openRunReport(out);
   ASSERT_TRUE(report.isOpened());
   EXPECT_EQ(static_cast<int>(report["frames"]), 40);
   EXPECT_EQ(static_cast<int>(report["tracked_frames"]), 40);
@@ -397,8 +395,7 @@ TEST(SystemDynamic, DetectAndFlowOnStaticSequence) {
     const CommandResult r =
         runDynslam({"run", rpyDir(), "-o", out, "--mode", "detect+flow", "--max-frames", "30"});
     ASSERT_EQ(r.exit_code, 0) << r.output;
-    cv::FileStorage report(out + "/report.json",
-                           cv::FileStorage::READ | cv::FileStorage::FORMAT_JSON);
+    cv::FileStorage report = openRunReport(out);
     ASSERT_TRUE(report.isOpened());
     EXPECT_EQ(static_cast<int>(report["tracked_frames"]), 30);
     EXPECT_EQ(static_cast<std::string>(report["mode"]), "detect+flow");
@@ -499,7 +496,7 @@ GapRun runGap(const TempDir& d, std::size_t from, std::size_t to) {
   EXPECT_EQ(r.exit_code, 0) << r.output;
   GapRun g;
   g.est = dynslam::readTumTrajectory(out + "/trajectory.txt");
-  g.report.open(out + "/report.json", cv::FileStorage::READ | cv::FileStorage::FORMAT_JSON);
+  g.report = openRunReport(out);
   EXPECT_TRUE(g.report.isOpened());
   return g;
 }
@@ -622,8 +619,7 @@ TEST(SystemDynamic, ScoresAgainstTrueMasksOfAComposite) {
     const std::string out = d / ("out_" + mode);
     const CommandResult r = runDynslam({"run", seq, "-o", out, "--mode", mode});
     EXPECT_EQ(r.exit_code, 0) << r.output;
-    cv::FileStorage report(out + "/report.json",
-                           cv::FileStorage::READ | cv::FileStorage::FORMAT_JSON);
+    cv::FileStorage report = openRunReport(out);
     EXPECT_TRUE(report.isOpened());
     cv::FileNode m = report["mask_scores"];
     EXPECT_EQ(static_cast<int>(m["frames_scored"]), 30);

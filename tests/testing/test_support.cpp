@@ -24,6 +24,11 @@ std::string sharedDir() {
 
 std::string rpyDir() { return sharedDir() + "/data/tum/rgbd_dataset_freiburg1_rpy"; }
 
+cv::FileStorage openRunReport(const std::string& run_dir) {
+  return cv::FileStorage(run_dir + "/report.json",
+                         cv::FileStorage::READ | cv::FileStorage::FORMAT_JSON);
+}
+
 std::string binaryDir() {
   const char* env = std::getenv("DYNSLAM_BINARY_DIR");
   return (env && *env) ? env : DYNSLAM_DEFAULT_BINARY_DIR;

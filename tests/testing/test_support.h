@@ -2,6 +2,7 @@
 // Test helpers: where the shared data lives, scratch folders that clean up
 // after themselves, and running the real `dynslam` binary for CLI tests.
 #include <mrpt/poses/CPose3D.h>
+#include <opencv2/core/persistence.hpp>
 
 #include <string>
 #include <vector>
@@ -57,6 +58,9 @@ SplitCommandResult runDynslamSplit(const std::vector<std::string>& args);
 /// Runs a /bin/sh command line (its words already quoted) the same way.
 SplitCommandResult runShellSplit(const std::string& command);
 
+/// RUN_DIR/report.json of a `dynslam run`, opened for reading (check
+/// isOpened(): not open when the file is missing or not JSON).
+cv::FileStorage openRunReport(const std::string& run_dir);
 /// Writes a text file (creating parent folders).
 void writeText(const std::string& path, const std::string& content);
 /// The whole file, byte for byte ("" when it cannot be opened).

@@ -420,5 +420,5 @@ TEST(Tracker, ASecondWalkInItsOwnMapAddsLessThanTheFirstMade) {
   RecordProperty("rms_error_mm", static_cast<int>(e.rms_mm));
   EXPECT_GE(tracked, kLap - 2) << "relocalised at the first frames";
   EXPECT_LT(e.max_mm, 100.0);
-  EXPECT_LT(points_after - points_before, points_before);
+  EXPECT_LT(points_after, 2 * points_before);  // adds fewer than points_before
 }
