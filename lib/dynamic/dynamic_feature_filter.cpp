@@ -72,14 +72,12 @@ std::vector<uint8_t> keypointsOnCoveredTracks(const std::vector<cv::KeyPoint>& k
   return out;
 }
 
-// Share of the map's keypoints (map_inlier[i], where valid[i]; valid may be
-// empty: all) that `flags` marks dynamic; NaN without any, so that every
-// comparison with a bound is false.
-double mapInliersFlagged(const std::vector<uint8_t>& map_inlier, const std::vector<uint8_t>& flags,
-                         const std::vector<uint8_t>& valid) {
+// Share of the map's keypoints (map_inlier[i]) that `flags` marks dynamic;
+// NaN without any, so that every comparison with a bound is false.
+double mapInliersFlagged(const std::vector<uint8_t>& map_inlier, const std::vector<uint8_t>& flags) {
   std::size_t inliers = 0, flagged = 0;
   for (std::size_t i = 0; i < map_inlier.size() && i < flags.size(); ++i)
-    if (map_inlier[i] && (valid.empty() || valid[i])) {
+    if (map_inlier[i]) {
       ++inliers;
       flagged += flags[i] != 0;
     }
@@ -94,7 +92,8 @@ DynamicFeatureFilter::DynamicFeatureFilter(const DynamicFilterParams& params,
       camera_(camera),
       box_masker_(params.box_mask),
       carrier_(params.carrier),
-      motion_(params.motion) {
+      motion_(params.motion),
+      moved_space_(params.moved_space) {
   if (const char* d = std::getenv("DYNSLAM_DEBUG_DYNAMIC_DIR"); d && *d) debug_dir_ = d;
   if (p_.use_detector)
     detector_ = std::make_unique<DetectorThread>(p_.detector, p_.detector_interval);
@@ -127,8 +126,6 @@ void DynamicFeatureFilter::selectFlowPoints(const std::vector<cv::KeyPoint>& key
   // Carried dynamic points first: they keep the walker's region alive.
   prev_points_.assign(carried.begin(), carried.begin() + std::min(cap, carried.size()));
   prev_age_.assign(carried_age.begin(), carried_age.begin() + prev_points_.size());
-  prev_keypoint_.assign(prev_points_.size(), -1);
-  prev_map_inlier_.assign(prev_points_.size(), 0);
   // Then an even subsample of the keypoints (the extractor already spreads
   // them over the image, so a stride keeps that spread).
   const std::size_t budget = cap - prev_points_.size();
@@ -137,8 +134,6 @@ void DynamicFeatureFilter::selectFlowPoints(const std::vector<cv::KeyPoint>& key
   for (double t = 0; std::size_t(t) < n && prev_points_.size() < cap; t += step) {
     prev_points_.push_back(keypoints[std::size_t(t)].pt);
     prev_age_.push_back(0);
-    prev_keypoint_.push_back(int(t));
-    prev_map_inlier_.push_back(0);
   }
 }
 
@@ -197,26 +192,9 @@ cv::Mat DynamicFeatureFilter::prepare(const RGBDFrame& frame, const cv::Mat& gra
     if (!prev_motion_mask_.empty()) pre.mask = warpedMotionMask(cur_points, tracked);
     for (std::size_t i = 0; i < tracked.size(); ++i)
       if (tracked[i] && prev_age_[i]) pre.addMoving(cur_points[i], int(prev_age_[i]) - 1);
-    // The tracks' own camera-motion fit (RANSAC) finds what starts moving
-    // and what the map holds: an object that stood still long enough to
-    // enter the map and moves on, which the tracker's pose may follow. Its
-    // verdicts pre-flag only when they spare the previous frame's map
-    // inliers (max_map_inliers_flagged): a fit that movers filling the view
-    // hijack flags the static scene, which the map holds most of.
-    const MotionResult fit = motion_.classify(prev_points_, cur_points, tracked, prev_.depth,
-                                              cur.depth, camera_, boxes_now_, gray.size());
-    if (fit.geometry.reliable &&
-        mapInliersFlagged(prev_map_inlier_, fit.dynamic, tracked) <= p_.max_map_inliers_flagged) {
-      if (pre.mask.empty())
-        pre.mask = fit.mask.clone();
-      else
-        pre.mask |= fit.mask;
-      for (std::size_t i = 0; i < tracked.size(); ++i)
-        if (tracked[i] && fit.dynamic[i]) pre.moving.push_back(cur_points[i]);
-    }
   }
   t0 = SteadyClock::now();
-  cv::Mat box_mask = boxMask(frame, pre.moving);
+  cv::Mat box_mask = boxMask(frame.depth, pre.moving);
   times_["boxes"].push_back(ms_boxes + msSince(t0));
   buildMask(pre, box_mask);
   judge_.frame = -1;
@@ -286,11 +264,6 @@ bool DynamicFeatureFilter::frameTracked(std::size_t index, const TrackedPose& po
   judge_.frame = -1;
   tracked_frame_ = pose.has_pose ? f : -1;
   tracked_pose_ = pose.pose_wc;
-  // Which of the points the next frame tracks the map held (for its fit).
-  for (std::size_t k = 0; k < prev_keypoint_.size(); ++k) {
-    const int i = prev_keypoint_[k];
-    prev_map_inlier_[k] = i >= 0 && std::size_t(i) < pose.map_inliers.size() && pose.map_inliers[i];
-  }
   return changed;
 }
 
@@ -349,7 +322,7 @@ bool DynamicFeatureFilter::judge(const cv::Matx44d& prev_pose_wc, const TrackedP
   const std::size_t flagged = flagOnMask(j.keypoints, verdict);
   // The map's evidence: keypoints the tracker matched to map points under
   // this pose are static; a judgement flagging most of them is wrong.
-  const double inliers_flagged = mapInliersFlagged(pose.map_inliers, verdict, {});
+  const double inliers_flagged = mapInliersFlagged(pose.map_inliers, verdict);
   times_["judge"].push_back(msSince(t0));
   if (inliers_flagged > p_.max_map_inliers_flagged) {
     ++rejected_judgements_;
@@ -367,6 +340,7 @@ bool DynamicFeatureFilter::judge(const cv::Matx44d& prev_pose_wc, const TrackedP
       j.keypoints, j.cur_points, ev.r.tracked,
       coveredTracksNow(j.prev_points, ev.r.tracked, j.prev_depth, j.cur_depth, camera_, known),
       size, spacing);
+  const std::size_t held_back = holdBackMovedSpace(pose.pose_wc, ev.r, dynamic);
   const std::size_t unjudged = std::size_t(std::count(unjudged_.begin(), unjudged_.end(), 1));
   unjudged_count_ += unjudged;
   // The flags are the judgement's; the pixel mask (lastMask(), what the
@@ -376,12 +350,60 @@ bool DynamicFeatureFilter::judge(const cv::Matx44d& prev_pose_wc, const TrackedP
   ++judged_frames_;
   writeDebugImage(j.box_mask, ev.mask);
   logf(LogLevel::kTrace, "dynamic",
-       "frame %ld: judged under the tracker's motion: %zu flagged, %zu unjudged", frame_, flagged,
-       unjudged);
+       "frame %ld: judged under the tracker's motion: %zu flagged, %zu unjudged (%zu in moved space)",
+       frame_, flagged, unjudged, held_back);
   // The next frame goes on from these verdicts.
   selectFlowPoints(j.keypoints, ev.carried, ev.carried_age);
   prev_motion_mask_ = ev.mask;
   return true;
+}
+
+std::size_t DynamicFeatureFilter::holdBackMovedSpace(const cv::Matx44d& pose_wc,
+                                                     const MotionResult& judged,
+                                                     const std::vector<uint8_t>& dynamic) {
+  const Judgement& j = judge_;
+  if (!moved_space_.enabled() || j.cur_depth.empty()) return 0;
+  const cv::Matx33d R = pose_wc.get_minor<3, 3>(0, 0);
+  const cv::Vec3d t(pose_wc(0, 3), pose_wc(1, 3), pose_wc(2, 3));
+  // Depth-backed points (depth edges left out), in the world.
+  auto worldPoints = [&](const std::vector<cv::Point2f>& px) {
+    const Correspondences c = buildCorrespondences(px, px, j.cur_depth, j.cur_depth, camera_, {},
+                                                   p_.motion.depth_edge_ratio);
+    std::vector<cv::Vec3d> w(px.size(), cv::Vec3d(NAN, NAN, NAN));
+    for (std::size_t k = 0; k < px.size(); ++k) {
+      const cv::Point3f& X = c.prev_xyz[k];
+      if (X.z > 0) w[k] = R * cv::Vec3d(X.x, X.y, X.z) + t;
+    }
+    return w;
+  };
+  // The judged tracks vote: static, or moving inside a region that passed
+  // the judgement's region vote. A moving track alone (LK slipping along a
+  // keyboard's repeated keys, blur) does not vote.
+  const cv::Rect image(0, 0, judged.mask.cols, judged.mask.rows);
+  std::vector<cv::Point2f> tracks;
+  std::vector<uint8_t> moving;
+  for (std::size_t i = 0; i < judged.dynamic.size(); ++i) {
+    if (!judged.tracked[i]) continue;
+    const cv::Point q(cvRound(j.cur_points[i].x), cvRound(j.cur_points[i].y));
+    if (judged.dynamic[i] && !(image.contains(q) && judged.mask.at<uint8_t>(q))) continue;
+    tracks.push_back(j.cur_points[i]);
+    moving.push_back(judged.dynamic[i]);
+  }
+  const std::vector<cv::Vec3d> tw = worldPoints(tracks);
+  for (std::size_t k = 0; k < tw.size(); ++k) moved_space_.addTrack(tw[k], moving[k], frame_);
+  // The keypoints in space that won the vote lately make no map point.
+  std::vector<cv::Point2f> pts(j.keypoints.size());
+  for (std::size_t k = 0; k < pts.size(); ++k) pts[k] = j.keypoints[k].pt;
+  const std::vector<cv::Vec3d> w = worldPoints(pts);
+  std::size_t held = 0;
+  unjudged_.resize(pts.size(), 0);
+  for (std::size_t k = 0; k < pts.size(); ++k)
+    if (!dynamic[k] && !unjudged_[k] && moved_space_.movedRecently(w[k], frame_)) {
+      unjudged_[k] = 1;
+      ++held;
+    }
+  if (frame_ % 100 == 0) moved_space_.forgetBefore(frame_);
+  return held;
 }
 
 void DynamicFeatureFilter::MotionEvidence::addMoving(const cv::Point2f& p, int age) {
@@ -398,7 +420,7 @@ void DynamicFeatureFilter::MotionEvidence::addMoving(const cv::Point2f& p, int a
   }
 }
 
-cv::Mat DynamicFeatureFilter::boxMask(const RGBDFrame& frame,
+cv::Mat DynamicFeatureFilter::boxMask(const cv::Mat& depth,
                                       const std::vector<cv::Point2f>& carried) {
   if (boxes_now_.empty()) return {};
   // Box depth masks, at the depth of the moving points inside each box where
@@ -409,8 +431,8 @@ cv::Mat DynamicFeatureFilter::boxMask(const RGBDFrame& frame,
     for (const auto& q : carried) {
       if (!boxes_now_[b].box.contains(q)) continue;
       const int u = cvRound(q.x), v = cvRound(q.y);
-      if (u < 0 || v < 0 || u >= frame.depth.cols || v >= frame.depth.rows) continue;
-      if (const uint16_t d = frame.depth.at<uint16_t>(v, u))
+      if (u < 0 || v < 0 || u >= depth.cols || v >= depth.rows) continue;
+      if (const uint16_t d = depth.at<uint16_t>(v, u))
         z.push_back(float(d / camera_.depth_scale));
     }
     if (p_.min_hint_points > 0 && int(z.size()) >= p_.min_hint_points) {
@@ -418,7 +440,7 @@ cv::Mat DynamicFeatureFilter::boxMask(const RGBDFrame& frame,
       hints[b] = z[z.size() / 2];
     }
   }
-  return box_masker_.computeFromBoxes(frame.depth, camera_.depth_scale, boxes_now_, nullptr,
+  return box_masker_.computeFromBoxes(depth, camera_.depth_scale, boxes_now_, nullptr,
                                       &hints);
 }
 

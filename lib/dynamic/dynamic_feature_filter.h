@@ -16,17 +16,16 @@
 // their motion for the camera's and flags the static scene. The tracker's
 // pose comes from the map, which movers cannot hijack that way. So
 //   1. prepare() and process(), before tracking, pre-flag the keypoints on
-//      the carried detector boxes (at the object's depth), on the last
-//      judgement's moving points and regions (moved along by their flow),
-//      and on what the tracks' own RANSAC fit finds moving when that spares
-//      the previous frame's map inliers (an object that stood still long
-//      enough to enter the map and moves on would otherwise pull the
-//      tracker's pose along; a fit that movers hijack flags the map's
-//      static scene instead, and is not used);
+//      the carried detector boxes (at the object's depth) and on the last
+//      judgement's moving points and regions (moved along by their flow);
 //   2. the tracker estimates the pose without the pre-flagged keypoints;
 //   3. frameTracked() classifies every track once under the tracker's
 //      motion: those flags replace the pre-flags for the keyframe decision
-//      and mapping, and their moving points seed the next frame.
+//      and mapping, and their moving points seed the next frame. Keypoints
+//      in space where tracks were seen moving recently (MovedSpaceMemory)
+//      make no map point: an object that stops and moves on again (a
+//      parked trolley, a person who waits) never enters the map, so the
+//      tracker's pose cannot follow it when it leaves.
 // A frame without a tracked pose (or after one) keeps its pre-flags.
 //
 // Cost: LK runs on at most max_flow_points keypoints of the previous frame
@@ -46,6 +45,7 @@
 #include "dynamic/depth_masks.h"
 #include "dynamic/detector_thread.h"
 #include "dynamic/motion_check.h"
+#include "dynamic/moved_space_memory.h"
 #include "dynamic/yolo_detector.h"
 
 namespace dynslam {
@@ -81,13 +81,13 @@ struct DynamicFilterParams {
   /// A judgement under the tracker's motion that flags more than this share
   /// of the keypoints the tracker matched to the map (static by the map's
   /// evidence) is not trusted: blur or a wrong pose, not movers; the frame
-  /// keeps its pre-flags. The tracks' own fit before tracking pre-flags only
-  /// under the same bound, on the previous frame's map inliers.
+  /// keeps its pre-flags.
   double max_map_inliers_flagged = 0.2;
   YoloDetectorParams detector;
   BoxDepthParams box_mask;
   BoxCarrierParams carrier;
   MotionCheckParams motion;
+  MovedSpaceParams moved_space;
 };
 
 class DynamicFeatureFilter : public ObservationPreprocessor {
@@ -158,13 +158,19 @@ class DynamicFeatureFilter : public ObservationPreprocessor {
   /// than max_map_inliers_flagged of the tracker's map inliers flagged.
   bool judge(const cv::Matx44d& prev_pose_wc, const TrackedPose& pose,
              std::vector<uint8_t>& dynamic);
+  /// Lets the judged tracks vote in moved_space_ (static, or moving inside a
+  /// region that passed the region vote), and marks the keypoints not flagged `dynamic` that
+  /// lie in space seen moving as unjudged (no map point from them); returns
+  /// how many it marked.
+  std::size_t holdBackMovedSpace(const cv::Matx44d& pose_wc, const MotionResult& judged,
+                                 const std::vector<uint8_t>& dynamic);
   /// $DYNSLAM_DEBUG_DYNAMIC_DIR/<frame>.png: the mask's parts.
   void writeDebugImage(const cv::Mat& box_mask, const cv::Mat& regions) const;
   /// prev_motion_mask_ moved by the median flow of the carried points.
   cv::Mat warpedMotionMask(const std::vector<cv::Point2f>& cur_points,
                            const std::vector<uint8_t>& tracked) const;
   /// Depth masks of the boxes of this frame (empty without boxes).
-  cv::Mat boxMask(const RGBDFrame& frame, const std::vector<cv::Point2f>& carried);
+  cv::Mat boxMask(const cv::Mat& depth, const std::vector<cv::Point2f>& carried);
   /// mask_ = regions + discs around moving points + boxes, dilated by the margin.
   void buildMask(const MotionEvidence& ev, const cv::Mat& box_mask);
   /// Sets dynamic[i] = 1 for the keypoints on mask_; returns how many.
@@ -180,6 +186,7 @@ class DynamicFeatureFilter : public ObservationPreprocessor {
   BoxDepthMasker box_masker_;
   BoxCarrier carrier_;
   MotionConsistencyCheck motion_;
+  MovedSpaceMemory moved_space_;
   MotionFrame prev_, cur_;
   long prepared_frame_ = -1;              // frame prepare() ran for, until process()
   std::vector<cv::Point2f> pre_carried_;  // prepare()'s carried points, for process()
@@ -188,10 +195,6 @@ class DynamicFeatureFilter : public ObservationPreprocessor {
   std::vector<cv::Point2f> prev_points_;
   // Per prev point: frames left to carry it as dynamic (0 = a plain keypoint).
   std::vector<uint8_t> prev_age_;
-  // Per prev point: its keypoint in the previous frame (-1: carried), and
-  // whether the tracker matched that keypoint to the map.
-  std::vector<int> prev_keypoint_;
-  std::vector<uint8_t> prev_map_inlier_;
   bool have_prev_ = false;
   cv::Mat prev_motion_mask_;  // motion regions of the previous frame's last judgement
   long frame_ = -1;

@@ -95,6 +95,7 @@ void forEachDynamicOption(P& p, F&& f) {
   f("max_flow_points", p.max_flow_points);
   f("carry_frames", p.carry_frames);
   f("max_map_inliers_flagged", p.max_map_inliers_flagged);
+  f("moved_space_frames", p.moved_space.memory_frames);
 }
 
 /// `model` is the path as resolved by loadSlamConfig (relative to the file).

@@ -37,9 +37,10 @@ void validateSlamConfig(const SlamConfig& c, const std::string& path) {
   if (d.orb_features != 0 && d.orb_features < 50)
     throw InputError(path, "dynamic: orb_features must be 0 (keep orb.n_features) or >= 50");
   if (d.mask_margin_px < 0 || d.max_flow_points < 0 || d.carry_frames < 0 || d.carry_frames > 255 ||
-      !(d.max_map_inliers_flagged > 0) || d.max_map_inliers_flagged > 1)
+      !(d.max_map_inliers_flagged > 0) || d.max_map_inliers_flagged > 1 ||
+      d.moved_space.memory_frames < 0)
     throw InputError(path,
-                     "dynamic: mask_margin_px, max_flow_points >= 0, "
+                     "dynamic: mask_margin_px, max_flow_points, moved_space_frames >= 0, "
                      "0 <= carry_frames <= 255, 0 < max_map_inliers_flagged <= 1 required");
   if (d.detector_interval < 1)
     throw InputError(path, "dynamic.detector: interval_frames >= 1 required");

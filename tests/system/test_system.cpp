@@ -303,6 +303,11 @@ TEST(SystemBadInput, MapInliersFlaggedOutOfRange) {
                          "max_map_inliers_flagged");
 }
 
+TEST(SystemBadInput, MovedSpaceFramesOutOfRange) {
+  for (const std::string v : {"-1", "1.5", "abc"})
+    expectConfigRejected("dynamic:\n  moved_space_frames: " + v + "\n", "moved_space_frames");
+}
+
 TEST(SystemBadInput, BoxMaskValuesOutOfRange) {
   for (const std::string v : {"-0.1", "1.5", "abc"})
     expectConfigRejected("dynamic:\n  box_mask:\n    connected_step: " + v + "\n",
