@@ -28,18 +28,18 @@ std::vector<cv::Point2f> coveredTracksNow(const std::vector<cv::Point2f>& prev_p
   for (std::size_t i = 0; i < prev_points.size(); ++i)
     if (i >= tracked.size() || !tracked[i]) lost.push_back(prev_points[i]);
   if (lost.empty() || prev_depth.empty() || cur_depth.empty()) return {};
-  // (cur_depth only fills c.cur_depth, unused here)
-  const Correspondences c = buildCorrespondences(lost, lost, prev_depth, prev_depth, camera, {});
+  const std::vector<cv::Point2f> undist = undistortPixels(lost, camera);
   const cv::Matx33d K(camera.fx, 0, camera.cx, 0, camera.fy, camera.cy, 0, 0, 1);
   std::vector<cv::Point2f> now;
   for (std::size_t k = 0; k < lost.size(); ++k) {
-    const cv::Point3f& X = c.prev_xyz[k];
+    // (a 3x3 depth spread over 5 %: a depth edge, nothing to tell)
+    const cv::Point3f X = backProject(prev_depth, lost[k], undist[k], camera, 0.05f);
     if (X.z <= 0) continue;  // without depth nothing tells cover from blur
     const cv::Vec3d Y = motion.R * cv::Vec3d(X.x, X.y, X.z) + motion.t;
     if (Y[2] <= 0) continue;
     const cv::Vec3d p = K * (Y / Y[2]);
-    const cv::Point2f q(lost[k].x + float(p[0] - c.prev[k].x),
-                        lost[k].y + float(p[1] - c.prev[k].y));
+    const cv::Point2f q(lost[k].x + float(p[0] - undist[k].x),
+                        lost[k].y + float(p[1] - undist[k].y));
     const int u = cvRound(q.x), v = cvRound(q.y);
     if (u < 0 || v < 0 || u >= cur_depth.cols || v >= cur_depth.rows) continue;
     const double z_now = cur_depth.at<uint16_t>(v, u) / camera.depth_scale;
@@ -365,40 +365,36 @@ std::size_t DynamicFeatureFilter::holdBackMovedSpace(const cv::Matx44d& pose_wc,
   if (!moved_space_.enabled() || j.cur_depth.empty()) return 0;
   const cv::Matx33d R = pose_wc.get_minor<3, 3>(0, 0);
   const cv::Vec3d t(pose_wc(0, 3), pose_wc(1, 3), pose_wc(2, 3));
-  // Depth-backed points (depth edges left out), in the world.
-  auto worldPoints = [&](const std::vector<cv::Point2f>& px) {
-    const Correspondences c = buildCorrespondences(px, px, j.cur_depth, j.cur_depth, camera_, {},
-                                                   p_.motion.depth_edge_ratio);
-    std::vector<cv::Vec3d> w(px.size(), cv::Vec3d(NAN, NAN, NAN));
-    for (std::size_t k = 0; k < px.size(); ++k) {
-      const cv::Point3f& X = c.prev_xyz[k];
-      if (X.z > 0) w[k] = R * cv::Vec3d(X.x, X.y, X.z) + t;
-    }
-    return w;
+  const float edge_ratio = p_.motion.depth_edge_ratio;
+  // A depth-backed camera point (z <= 0: none) in the world; non-finite
+  // (ignored by the memory) without depth.
+  auto world = [&](const cv::Point3f& X) {
+    return X.z > 0 ? cv::Vec3d(R * cv::Vec3d(X.x, X.y, X.z) + t) : cv::Vec3d(NAN, NAN, NAN);
   };
   // The judged tracks vote: static, or moving inside a region that passed
   // the judgement's region vote. A moving track alone (LK slipping along a
-  // keyboard's repeated keys, blur) does not vote.
+  // keyboard's repeated keys, blur) does not vote. Their undistorted pixels
+  // are the judgement's own (judged.correspondences, one per tracked point).
+  const Correspondences& c = judged.correspondences;
   const cv::Rect image(0, 0, judged.mask.cols, judged.mask.rows);
-  std::vector<cv::Point2f> tracks;
-  std::vector<uint8_t> moving;
-  for (std::size_t i = 0; i < judged.dynamic.size(); ++i) {
-    if (!judged.tracked[i]) continue;
-    const cv::Point q(cvRound(j.cur_points[i].x), cvRound(j.cur_points[i].y));
-    if (judged.dynamic[i] && !(image.contains(q) && judged.mask.at<uint8_t>(q))) continue;
-    tracks.push_back(j.cur_points[i]);
-    moving.push_back(judged.dynamic[i]);
+  for (std::size_t k = 0; k < judged.tracked_index.size(); ++k) {
+    const cv::Point2f& raw = j.cur_points[std::size_t(judged.tracked_index[k])];
+    const bool moving = judged.geometry.dynamic[k];
+    const cv::Point q(cvRound(raw.x), cvRound(raw.y));
+    if (moving && !(image.contains(q) && judged.mask.at<uint8_t>(q))) continue;
+    moved_space_.addTrack(world(backProject(j.cur_depth, raw, c.cur[k], camera_, edge_ratio)),
+                          moving, frame_);
   }
-  const std::vector<cv::Vec3d> tw = worldPoints(tracks);
-  for (std::size_t k = 0; k < tw.size(); ++k) moved_space_.addTrack(tw[k], moving[k], frame_);
   // The keypoints in space that won the vote lately make no map point.
   std::vector<cv::Point2f> pts(j.keypoints.size());
   for (std::size_t k = 0; k < pts.size(); ++k) pts[k] = j.keypoints[k].pt;
-  const std::vector<cv::Vec3d> w = worldPoints(pts);
+  const std::vector<cv::Point2f> undist = undistortPixels(pts, camera_);
   std::size_t held = 0;
   unjudged_.resize(pts.size(), 0);
   for (std::size_t k = 0; k < pts.size(); ++k)
-    if (!dynamic[k] && !unjudged_[k] && moved_space_.movedRecently(w[k], frame_)) {
+    if (!dynamic[k] && !unjudged_[k] &&
+        moved_space_.movedRecently(
+            world(backProject(j.cur_depth, pts[k], undist[k], camera_, edge_ratio)), frame_)) {
       unjudged_[k] = 1;
       ++held;
     }

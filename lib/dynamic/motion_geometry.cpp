@@ -232,6 +232,19 @@ namespace {
 // Back-projects pixel p of `depth` (raw units), whose undistorted position is
 // `undist`, into the camera frame; z = 0
 // when there is no depth or p sits on a depth edge (3x3 spread too large).
+}  // namespace
+
+std::vector<cv::Point2f> undistortPixels(const std::vector<cv::Point2f>& raw,
+                                         const PinholeCamera& camera) {
+  std::vector<cv::Point2f> out = raw;
+  if (camera.hasDistortion() && !raw.empty()) {
+    const cv::Matx33d K(camera.fx, 0, camera.cx, 0, camera.fy, camera.cy, 0, 0, 1);
+    const cv::Mat dist(1, 5, CV_64F, const_cast<double*>(camera.dist.data()));
+    cv::undistortPoints(raw, out, K, dist, cv::noArray(), K);
+  }
+  return out;
+}
+
 cv::Point3f backProject(const cv::Mat& depth, const cv::Point2f& p, const cv::Point2f& undist,
                         const PinholeCamera& cam, float edge_ratio) {
   const int x = int(std::lround(p.x)), y = int(std::lround(p.y));
@@ -253,8 +266,6 @@ cv::Point3f backProject(const cv::Mat& depth, const cv::Point2f& p, const cv::Po
   return {float((undist.x - cam.cx) * Z / cam.fx), float((undist.y - cam.cy) * Z / cam.fy), Z};
 }
 
-}  // namespace
-
 Correspondences buildCorrespondences(const std::vector<cv::Point2f>& prev_points,
                                      const std::vector<cv::Point2f>& cur_points,
                                      const cv::Mat& prev_depth, const cv::Mat& cur_depth,
@@ -263,19 +274,13 @@ Correspondences buildCorrespondences(const std::vector<cv::Point2f>& prev_points
   CV_Assert(prev_points.size() == cur_points.size());
   const std::size_t m = prev_points.size();
   Correspondences c;
-  c.prev = prev_points;
-  c.cur = cur_points;
   c.in_dynamic_box.resize(m);
   for (std::size_t k = 0; k < m; ++k)
     c.in_dynamic_box[k] = inDynamicBox(prev_points[k], boxes) || inDynamicBox(cur_points[k], boxes);
   // Geometry runs on undistorted pixels (TUM fr1/fr2 images are distorted);
   // depth is still read at the raw pixel it was registered to.
-  if (camera.hasDistortion() && m > 0) {
-    const cv::Matx33d K(camera.fx, 0, camera.cx, 0, camera.fy, camera.cy, 0, 0, 1);
-    const cv::Mat dist(1, 5, CV_64F, const_cast<double*>(camera.dist.data()));
-    cv::undistortPoints(prev_points, c.prev, K, dist, cv::noArray(), K);
-    cv::undistortPoints(cur_points, c.cur, K, dist, cv::noArray(), K);
-  }
+  c.prev = undistortPixels(prev_points, camera);
+  c.cur = undistortPixels(cur_points, camera);
   if (!prev_depth.empty() && !cur_depth.empty()) {
     CV_Assert(prev_depth.type() == CV_16UC1 && cur_depth.type() == CV_16UC1);
     c.prev_xyz.resize(m);

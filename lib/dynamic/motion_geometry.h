@@ -53,6 +53,18 @@ struct GeometryResult {
   bool reliable = false;
 };
 
+/// Raw (distorted) pixels undistorted with camera.dist (a copy when the
+/// camera has no distortion).
+std::vector<cv::Point2f> undistortPixels(const std::vector<cv::Point2f>& raw,
+                                         const PinholeCamera& camera);
+
+/// Camera-frame 3D point (m) of a pixel: depth read at the raw pixel, ray
+/// through the undistorted one. z = 0 (no point) where the depth or a 3x3
+/// neighbour is missing, or where the neighbourhood spans more than
+/// edge_ratio x the depth (a depth edge: foreground or background?).
+cv::Point3f backProject(const cv::Mat& depth, const cv::Point2f& raw, const cv::Point2f& undist,
+                        const PinholeCamera& camera, float edge_ratio);
+
 /// Fills Correspondences from matched raw pixel positions: undistorts them
 /// (camera.dist), back-projects prev points with prev_depth and reads
 /// cur_depth at the cur points (either depth may be empty: no depth tests),
