@@ -23,7 +23,11 @@ struct MotionCheckParams {
   /// no depth or no pose.) Fit F also when the PnP pose succeeded (only
   /// needed for points without depth); false saves the F RANSAC.
   bool fundamental_with_pose = true;
-  float reprojection_threshold_px = 3.0f;  ///< depth-backed reprojection test
+  /// Depth-backed reprojection test (px). With a known camera motion
+  /// (classifyMotion's `known`) the points that pass it (points without
+  /// depth: epipolar_threshold_px) also refine that motion and give the
+  /// residual scale of the adaptive thresholds.
+  float reprojection_threshold_px = 3.0f;
   /// Per frame, each threshold is raised to k x the robust residual sigma of
   /// the fit points (blurred / rolling-shutter frames); 0 = fixed thresholds.
   float adaptive_threshold_k = 3.0f;
@@ -35,11 +39,6 @@ struct MotionCheckParams {
   /// than this fraction (depth edges: foreground or background?).
   float depth_edge_ratio = 0.05f;
   int min_static_points = 20;  ///< below: fit on all points
-  /// With a known camera motion (classifyMotion's `known`): points within
-  /// this reprojection distance (px) of it refine it and give the residual
-  /// scale of the adaptive thresholds (points without depth: within this x
-  /// epipolar_threshold_px / reprojection_threshold_px of their epipolar line).
-  float known_motion_gate_px = 3.0f;
   double ransac_confidence = 0.99;
   int pnp_iterations = 100;
   float pnp_inlier_px = 2.0f;         ///< RANSAC PnP inlier threshold

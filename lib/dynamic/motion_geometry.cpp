@@ -97,7 +97,8 @@ GeometryResult classifyMotion(const Correspondences& c, const cv::Matx33d& K,
       // shift the tracks by a pixel or so), never replace it.
       std::vector<int> explained;
       for (std::size_t k = 0; k < obj.size(); ++k)
-        if (residual(known->R, known->t, std::size_t(obj_index[k])) < params.known_motion_gate_px)
+        if (residual(known->R, known->t, std::size_t(obj_index[k])) <
+            params.reprojection_threshold_px)
           explained.push_back(int(k));
       if (explained.size() >= 6) {
         cv::Mat rvec, tvec = (cv::Mat_<double>(3, 1) << known->t[0], known->t[1], known->t[2]);
@@ -168,16 +169,13 @@ GeometryResult classifyMotion(const Correspondences& c, const cv::Matx33d& K,
     }
   if (known) {
     // The residual scale comes from the points the known motion explains:
-    // by reprojection where there is depth, else by the epipolar distance.
-    // The gate scales with the thresholds for the (one-dimensional)
-    // epipolar distance.
-    const float epi_gate = params.known_motion_gate_px * params.epipolar_threshold_px /
-                           std::max(1e-3f, params.reprojection_threshold_px);
+    // by reprojection where there is depth, else by the epipolar distance,
+    // each within its configured test threshold.
     scale_set.clear();
     for (int i : fit) {
       const bool explained = std::isnan(r.reprojection_error[i])
-                                 ? r.epipolar_error[i] < epi_gate
-                                 : r.reprojection_error[i] < params.known_motion_gate_px;
+                                 ? r.epipolar_error[i] < params.epipolar_threshold_px
+                                 : r.reprojection_error[i] < params.reprojection_threshold_px;
       if (explained) scale_set.push_back(i);
     }
   }

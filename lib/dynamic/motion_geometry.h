@@ -79,7 +79,7 @@ Correspondences buildCorrespondences(const std::vector<cv::Point2f>& prev_points
 /// Pure geometry: classify correspondences (no images). K: 3x3 intrinsics
 /// of the (undistorted) pixel coordinates in `c`. known (optional): the
 /// camera motion is not fitted by RANSAC but taken from there and refined
-/// on the points it explains within known_motion_gate_px; F then follows
+/// on the points it explains within reprojection_threshold_px; F then follows
 /// from it, and the frame counts as reliable.
 GeometryResult classifyMotion(const Correspondences& c, const cv::Matx33d& K,
                               const MotionCheckParams& params, const CameraMotion* known = nullptr);

@@ -123,7 +123,6 @@ template <class P, class F>
 void forEachMotionCheckOption(P& p, F&& f) {
   f("epipolar_threshold_px", p.epipolar_threshold_px);
   f("reprojection_threshold_px", p.reprojection_threshold_px);
-  f("known_motion_gate_px", p.known_motion_gate_px);
   f("region_min_dynamic_ratio", p.region_min_dynamic_ratio);
   f("max_seed_distance_px", p.max_seed_distance_px);
 }

@@ -53,12 +53,12 @@ void validateSlamConfig(const SlamConfig& c, const std::string& path) {
     throw InputError(path, "dynamic.box_carrier: max_age_frames >= 0 required");
   const MotionCheckParams& mc = d.motion;
   if (!(mc.epipolar_threshold_px > 0) || !(mc.reprojection_threshold_px > 0) ||
-      !(mc.known_motion_gate_px > 0) || !(mc.region_min_dynamic_ratio >= 0) ||
-      mc.region_min_dynamic_ratio > 1 || !(mc.max_seed_distance_px >= 0) ||
-      !(mc.grow.step_tolerance > 0) || !(mc.grow.max_depth_offset_m > 0))
+      !(mc.region_min_dynamic_ratio >= 0) || mc.region_min_dynamic_ratio > 1 ||
+      !(mc.max_seed_distance_px >= 0) || !(mc.grow.step_tolerance > 0) ||
+      !(mc.grow.max_depth_offset_m > 0))
     throw InputError(path,
                      "dynamic.motion_check: epipolar_threshold_px, "
-                     "reprojection_threshold_px, known_motion_gate_px > 0, "
+                     "reprojection_threshold_px > 0, "
                      "0 <= region_min_dynamic_ratio <= 1, max_seed_distance_px >= 0, "
                      "region_grow step_tolerance, max_depth_offset_m > 0 required");
   validateDenseMapOptions(c.map_export, path);

@@ -83,6 +83,18 @@ TEST(ConfigOptions, ShippedConfigHoldsExactlyTheCodeDefaults) {
   EXPECT_GT(keys, 100u);
 }
 
+// Issue 14: the dynamic stage stays tunable by at most 20 documented keys.
+TEST(ConfigOptions, TheDynamicSectionHasAtMostTwentyKeys) {
+  const SlamConfig defaults;
+  std::size_t keys = 0;
+  forEachSlamConfigSection(defaults, [&](const std::string& name, auto&& for_each) {
+    if (name == "dynamic" || name.rfind("dynamic.", 0) == 0)
+      for_each([&](const char*, const auto&) { ++keys; });
+  });
+  EXPECT_GT(keys, 10u);  // the sections were found
+  EXPECT_LE(keys, 20u);
+}
+
 // A config with no value at its default, dumped and read back, gives the
 // same values (numbers exactly, paths resolved, lists whole).
 TEST(ConfigOptions, DumpReadsBackToTheSameValues) {

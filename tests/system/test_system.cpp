@@ -339,6 +339,13 @@ TEST(SystemBadInput, AsyncDetectorIsNoLongerAKey) {
   expectConfigRejected("dynamic:\n  async_detector: false\n", "async_detector");
 }
 
+TEST(SystemBadInput, KnownMotionGateIsNoLongerAKey) {
+  // Folded into motion_check.reprojection_threshold_px: the points that pass
+  // the reprojection test are the ones that refine the known motion.
+  expectConfigRejected("dynamic:\n  motion_check:\n    known_motion_gate_px: 3\n",
+                       "known_motion_gate_px");
+}
+
 TEST(SystemBadInput, DynamicOrbFeaturesTooFew) {
   for (const std::string v : {"10", "-5"})
     expectConfigRejected("dynamic:\n  orb_features: " + v + "\n", "orb_features", "flow");
@@ -346,8 +353,8 @@ TEST(SystemBadInput, DynamicOrbFeaturesTooFew) {
 
 TEST(SystemBadInput, MotionCheckValuesRejected) {
   for (const std::string v : {"0", "-3", "abc"})
-    expectConfigRejected("dynamic:\n  motion_check:\n    known_motion_gate_px: " + v + "\n",
-                         "known_motion_gate_px");
+    expectConfigRejected("dynamic:\n  motion_check:\n    reprojection_threshold_px: " + v + "\n",
+                         "reprojection_threshold_px");
   for (const std::string v : {"-0.1", "1.2"})
     expectConfigRejected("dynamic:\n  motion_check:\n    region_min_dynamic_ratio: " + v + "\n",
                          "region_min_dynamic_ratio");
