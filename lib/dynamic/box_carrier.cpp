@@ -98,4 +98,11 @@ std::vector<Detection> BoxCarrier::boxes() const {
   return out;
 }
 
+std::vector<Detection> BoxCarrier::boxesDetectedSince(long frame) const {
+  std::vector<Detection> out;
+  for (const auto& b : boxes_)
+    if (b.detected_frame >= frame) out.push_back(b.det);
+  return out;
+}
+
 }  // namespace dynslam

@@ -65,6 +65,9 @@ class BoxCarrier {
 
   /// Boxes for the current frame.
   std::vector<Detection> boxes() const;
+  /// The boxes whose last detection was on frame `frame` or later: the ones
+  /// the detector still confirms, rather than carries on from a miss.
+  std::vector<Detection> boxesDetectedSince(long frame) const;
   const std::vector<CarriedBox>& carried() const { return boxes_; }
   long currentFrame() const { return current_; }
 

@@ -194,7 +194,7 @@ cv::Mat DynamicFeatureFilter::prepare(const RGBDFrame& frame, const cv::Mat& gra
       if (tracked[i] && prev_age_[i]) pre.addMoving(cur_points[i], int(prev_age_[i]) - 1);
   }
   t0 = SteadyClock::now();
-  cv::Mat box_mask = boxMask(frame.depth, pre.moving);
+  cv::Mat box_mask = boxMask(frame.depth, boxes_now_, pre.moving);
   times_["boxes"].push_back(ms_boxes + msSince(t0));
   buildMask(pre, box_mask);
   judge_.frame = -1;
@@ -208,7 +208,16 @@ cv::Mat DynamicFeatureFilter::prepare(const RGBDFrame& frame, const cv::Mat& gra
     j.tracked = std::move(tracked);
     j.prev_depth = prev_.depth;
     j.cur_depth = cur.depth;
-    j.box_mask = box_mask;
+    // The judgement's flags (what mapping uses) keep the surfaces of the
+    // boxes one of the detector's last two runs confirmed. A box carried on
+    // from a miss has mostly lost its person (gone out of view, or the box
+    // slid onto the desk it stood over); what of it still moves, the motion
+    // check finds. The pre-flags, which only guide tracking, keep it.
+    const std::vector<Detection> confirmed =
+        carrier_.boxesDetectedSince(frame_ - 3 * long(p_.detector_interval) + 1);
+    j.box_mask = confirmed.size() == boxes_now_.size()
+                     ? box_mask
+                     : boxMask(frame.depth, confirmed, pre.moving);
     j.boxes = boxes_now_;
   }
   prev_motion_mask_ = pre.mask;
@@ -416,16 +425,16 @@ void DynamicFeatureFilter::MotionEvidence::addMoving(const cv::Point2f& p, int a
   }
 }
 
-cv::Mat DynamicFeatureFilter::boxMask(const cv::Mat& depth,
-                                      const std::vector<cv::Point2f>& carried) {
-  if (boxes_now_.empty()) return {};
+cv::Mat DynamicFeatureFilter::boxMask(const cv::Mat& depth, const std::vector<Detection>& boxes,
+                                      const std::vector<cv::Point2f>& carried) const {
+  if (boxes.empty()) return {};
   // Box depth masks, at the depth of the moving points inside each box where
   // there are enough of them (the histogram's nearest peak may be an occluder).
-  std::vector<float> hints(boxes_now_.size(), 0.f);
-  for (std::size_t b = 0; b < boxes_now_.size(); ++b) {
+  std::vector<float> hints(boxes.size(), 0.f);
+  for (std::size_t b = 0; b < boxes.size(); ++b) {
     std::vector<float> z;
     for (const auto& q : carried) {
-      if (!boxes_now_[b].box.contains(q)) continue;
+      if (!boxes[b].box.contains(q)) continue;
       const int u = cvRound(q.x), v = cvRound(q.y);
       if (u < 0 || v < 0 || u >= depth.cols || v >= depth.rows) continue;
       if (const uint16_t d = depth.at<uint16_t>(v, u))
@@ -436,7 +445,7 @@ cv::Mat DynamicFeatureFilter::boxMask(const cv::Mat& depth,
       hints[b] = z[z.size() / 2];
     }
   }
-  return box_masker_.computeFromBoxes(depth, camera_.depth_scale, boxes_now_, nullptr,
+  return box_masker_.computeFromBoxes(depth, camera_.depth_scale, boxes, nullptr,
                                       &hints);
 }
 

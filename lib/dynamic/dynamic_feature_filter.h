@@ -21,7 +21,9 @@
 //   2. the tracker estimates the pose without the pre-flagged keypoints;
 //   3. frameTracked() classifies every track once under the tracker's
 //      motion: those flags replace the pre-flags for the keyframe decision
-//      and mapping, and their moving points seed the next frame. Keypoints
+//      and mapping (with the box surfaces of the boxes the detector still
+//      confirms, not of those carried on from a miss), and their moving
+//      points seed the next frame. Keypoints
 //      in space where tracks were seen moving recently (MovedSpaceMemory)
 //      make no map point: an object that stops and moves on again (a
 //      parked trolley, a person who waits) never enters the map, so the
@@ -170,7 +172,8 @@ class DynamicFeatureFilter : public ObservationPreprocessor {
   cv::Mat warpedMotionMask(const std::vector<cv::Point2f>& cur_points,
                            const std::vector<uint8_t>& tracked) const;
   /// Depth masks of the boxes of this frame (empty without boxes).
-  cv::Mat boxMask(const cv::Mat& depth, const std::vector<cv::Point2f>& carried);
+  cv::Mat boxMask(const cv::Mat& depth, const std::vector<Detection>& boxes,
+                  const std::vector<cv::Point2f>& carried) const;
   /// mask_ = regions + discs around moving points + boxes, dilated by the margin.
   void buildMask(const MotionEvidence& ev, const cv::Mat& box_mask);
   /// Sets dynamic[i] = 1 for the keypoints on mask_; returns how many.

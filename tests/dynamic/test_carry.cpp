@@ -103,6 +103,19 @@ TEST(BoxCarrier, NewDetectionReplacesOverlappingBoxKeepsOthers) {
   EXPECT_EQ(c.carried()[1].detected_frame, 0);
 }
 
+TEST(BoxCarrier, BoxesDetectedSinceLeavesOutTheOnesCarriedOnFromAMiss) {
+  BoxCarrier c;
+  c.addDetections(0, {person(100, 100, 50, 100), person(400, 100, 50, 100)});
+  for (long f = 1; f <= 3; ++f) c.advanceWithoutFlow(f);
+  c.addDetections(3, {person(105, 100, 50, 100)});  // the second person was missed
+  ASSERT_EQ(c.boxes().size(), 2u);                  // both still carried
+  const auto since3 = c.boxesDetectedSince(3);
+  ASSERT_EQ(since3.size(), 1u);
+  EXPECT_FLOAT_EQ(since3[0].box.x, 105);
+  EXPECT_EQ(c.boxesDetectedSince(0).size(), 2u);
+  EXPECT_TRUE(c.boxesDetectedSince(4).empty());
+}
+
 TEST(BoxCarrier, BadInputsThrow) {
   BoxCarrier c;
   FlowStep bad;

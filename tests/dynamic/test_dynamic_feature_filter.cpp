@@ -6,6 +6,7 @@
 // against the known movers.
 #include <gtest/gtest.h>
 
+#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include <array>
@@ -14,6 +15,7 @@
 
 #include "dynamic/dynamic_feature_filter.h"
 #include "synthetic_scene.h"
+#include "testing/test_support.h"
 
 using namespace dynslam;
 
@@ -446,5 +448,46 @@ TEST(DynamicFeatureFilterTwoPhases, WhatWasSeenMovingStaysOutOfTheMapWhileItStan
     EXPECT_GT(with[1], 0.95) << k;
     EXPECT_GT(without[0], 0.8) << k;
     EXPECT_GT(without[1], 0.95) << k;
+  }
+}
+
+// A person (a photo, so the real detector finds it) stands in front of the
+// wall for frames 0-2 and is gone from frame 3: the detector saw it on frame
+// 0 (boxes handed over at frame 3) and sees nothing on frames 3, 6, 9. Its
+// box is carried on from the misses for box_carrier.max_age_frames, and
+// pre-flags the wall behind it; once no run of the last two confirmed it
+// (from frame 9), the judgement under the tracker's motion must leave the
+// wall there unflagged. Known data: nothing moves after frame 2.
+TEST(DynamicFeatureFilterTwoPhases, ABoxTheDetectorNoLongerConfirmsFlagsNothingAfterTracking) {
+  cv::RNG rng(21);
+  const cv::Mat wall = test::noiseTexture(rng, {W + 100, H + 60});  // 13 frames of sliding
+  cv::Mat person = cv::imread(test::sharedDir() + "/data/people/zidane.jpg", cv::IMREAD_GRAYSCALE);
+  ASSERT_FALSE(person.empty());
+  // Ancelotti, the right-hand person of the photo, scaled to 100 x 170 px.
+  cv::resize(person(cv::Rect(748, 42, 392, 678)), person, {100, 170}, 0, 0, cv::INTER_AREA);
+  auto at = [](int k) { return k < 3 ? cv::Rect(110 - 8 * k, 35, 100, 170) : cv::Rect(); };
+  const Sequence s = slidingWall(wall, 13, {{person, 1.5, at}});
+
+  DynamicFilterParams p = flowOnly();
+  p.use_detector = true;
+  p.detector.model_path = test::sharedDir() + "/models/yolov5n_480x640.onnx";
+  p.detector_interval = 3;
+  DynamicFeatureFilter filter(p, test::sceneCamera());
+  for (std::size_t k = 0; k < s.frames.size(); ++k) {
+    const Phases ph = step(filter, s, k, posed(k));
+    if (k < 9) continue;
+    // The carried box (it moves with the wall, 4 px left a frame).
+    ASSERT_EQ(filter.lastBoxes().size(), 1u) << "frame " << k;
+    const cv::Rect box = cv::Rect(filter.lastBoxes()[0].box) & cv::Rect(0, 0, W, H);
+    ASSERT_GT(box.area(), 60 * 100) << "frame " << k;
+    int in = 0, pre = 0, judged = 0;
+    for (std::size_t i = 0; i < s.keypoints[k].size(); ++i)
+      if (box.contains(cv::Point(cvRound(s.keypoints[k][i].pt.x), cvRound(s.keypoints[k][i].pt.y))))
+        ++in, pre += ph.pre[i], judged += ph.judged[i];
+    ASSERT_GT(in, 30) << "frame " << k;
+    RecordProperty("wall_in_box_judged_flagged_frame" + std::to_string(k), judged);
+    EXPECT_GT(pre, in / 2) << "frame " << k << ": the carried box no longer pre-flags";
+    EXPECT_EQ(judged, 0) << "frame " << k << ": " << judged << " of " << in
+                         << " wall keypoints in the stale box flagged after tracking";
   }
 }
