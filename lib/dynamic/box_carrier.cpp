@@ -98,10 +98,10 @@ std::vector<Detection> BoxCarrier::boxes() const {
   return out;
 }
 
-std::vector<Detection> BoxCarrier::boxesDetectedSince(long frame) const {
-  std::vector<Detection> out;
+BoxCarrier::ConfirmedSplit BoxCarrier::boxesSplitAt(long frame) const {
+  ConfirmedSplit out;
   for (const auto& b : boxes_)
-    if (b.detected_frame >= frame) out.push_back(b.det);
+    (b.detected_frame >= frame ? out.confirmed : out.carried_on).push_back(b.det);
   return out;
 }
 

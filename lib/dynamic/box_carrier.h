@@ -65,9 +65,13 @@ class BoxCarrier {
 
   /// Boxes for the current frame.
   std::vector<Detection> boxes() const;
-  /// The boxes whose last detection was on frame `frame` or later: the ones
-  /// the detector still confirms, rather than carries on from a miss.
-  std::vector<Detection> boxesDetectedSince(long frame) const;
+  /// The current boxes, split by their last detection: on frame `frame` or
+  /// later (the ones the detector still confirms), or before it (carried on
+  /// from a miss).
+  struct ConfirmedSplit {
+    std::vector<Detection> confirmed, carried_on;
+  };
+  ConfirmedSplit boxesSplitAt(long frame) const;
   const std::vector<CarriedBox>& carried() const { return boxes_; }
   long currentFrame() const { return current_; }
 

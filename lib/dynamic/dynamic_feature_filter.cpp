@@ -23,7 +23,8 @@ namespace {
 std::vector<cv::Point2f> coveredTracksNow(const std::vector<cv::Point2f>& prev_points,
                                           const std::vector<uint8_t>& tracked,
                                           const cv::Mat& prev_depth, const cv::Mat& cur_depth,
-                                          const PinholeCamera& camera, const CameraMotion& motion) {
+                                          const PinholeCamera& camera, const CameraMotion& motion,
+                                          float depth_edge_ratio) {
   std::vector<cv::Point2f> lost;
   for (std::size_t i = 0; i < prev_points.size(); ++i)
     if (i >= tracked.size() || !tracked[i]) lost.push_back(prev_points[i]);
@@ -32,8 +33,8 @@ std::vector<cv::Point2f> coveredTracksNow(const std::vector<cv::Point2f>& prev_p
   const cv::Matx33d K(camera.fx, 0, camera.cx, 0, camera.fy, camera.cy, 0, 0, 1);
   std::vector<cv::Point2f> now;
   for (std::size_t k = 0; k < lost.size(); ++k) {
-    // (a 3x3 depth spread over 5 %: a depth edge, nothing to tell)
-    const cv::Point3f X = backProject(prev_depth, lost[k], undist[k], camera, 0.05f);
+    // (on a depth edge: nothing to tell)
+    const cv::Point3f X = backProject(prev_depth, lost[k], undist[k], camera, depth_edge_ratio);
     if (X.z <= 0) continue;  // without depth nothing tells cover from blur
     const cv::Vec3d Y = motion.R * cv::Vec3d(X.x, X.y, X.z) + motion.t;
     if (Y[2] <= 0) continue;
@@ -74,7 +75,8 @@ std::vector<uint8_t> keypointsOnCoveredTracks(const std::vector<cv::KeyPoint>& k
 
 // Share of the map's keypoints (map_inlier[i]) that `flags` marks dynamic;
 // NaN without any, so that every comparison with a bound is false.
-double mapInliersFlagged(const std::vector<uint8_t>& map_inlier, const std::vector<uint8_t>& flags) {
+double mapInliersFlagged(const std::vector<uint8_t>& map_inlier,
+                         const std::vector<uint8_t>& flags) {
   std::size_t inliers = 0, flagged = 0;
   for (std::size_t i = 0; i < map_inlier.size() && i < flags.size(); ++i)
     if (map_inlier[i]) {
@@ -193,8 +195,21 @@ cv::Mat DynamicFeatureFilter::prepare(const RGBDFrame& frame, const cv::Mat& gra
     for (std::size_t i = 0; i < tracked.size(); ++i)
       if (tracked[i] && prev_age_[i]) pre.addMoving(cur_points[i], int(prev_age_[i]) - 1);
   }
+  // The judgement's flags (what mapping uses) keep the surfaces of the
+  // boxes one of the detector's last two runs confirmed. A box carried on
+  // from a miss has mostly lost its person (gone out of view, or the box
+  // slid onto the desk it stood over); what of it still moves, the motion
+  // check finds. The pre-flags, which only guide tracking, keep it. (Each
+  // box's surface depends on that box alone, so the two masks add up.)
   t0 = SteadyClock::now();
-  cv::Mat box_mask = boxMask(frame.depth, boxes_now_, pre.moving);
+  const BoxCarrier::ConfirmedSplit split =
+      carrier_.boxesSplitAt(frame_ - 3 * long(p_.detector_interval) + 1);
+  const cv::Mat confirmed_mask = boxMask(frame.depth, split.confirmed, pre.moving);
+  cv::Mat box_mask = boxMask(frame.depth, split.carried_on, pre.moving);
+  if (box_mask.empty())
+    box_mask = confirmed_mask;
+  else if (!confirmed_mask.empty())
+    box_mask |= confirmed_mask;
   times_["boxes"].push_back(ms_boxes + msSince(t0));
   buildMask(pre, box_mask);
   judge_.frame = -1;
@@ -208,16 +223,7 @@ cv::Mat DynamicFeatureFilter::prepare(const RGBDFrame& frame, const cv::Mat& gra
     j.tracked = std::move(tracked);
     j.prev_depth = prev_.depth;
     j.cur_depth = cur.depth;
-    // The judgement's flags (what mapping uses) keep the surfaces of the
-    // boxes one of the detector's last two runs confirmed. A box carried on
-    // from a miss has mostly lost its person (gone out of view, or the box
-    // slid onto the desk it stood over); what of it still moves, the motion
-    // check finds. The pre-flags, which only guide tracking, keep it.
-    const std::vector<Detection> confirmed =
-        carrier_.boxesDetectedSince(frame_ - 3 * long(p_.detector_interval) + 1);
-    j.box_mask = confirmed.size() == boxes_now_.size()
-                     ? box_mask
-                     : boxMask(frame.depth, confirmed, pre.moving);
+    j.box_mask = confirmed_mask;
     j.boxes = boxes_now_;
   }
   prev_motion_mask_ = pre.mask;
@@ -347,7 +353,8 @@ bool DynamicFeatureFilter::judge(const cv::Matx44d& prev_pose_wc, const TrackedP
       std::sqrt(double(size.area()) / double(std::max<std::size_t>(1, j.prev_points.size())));
   unjudged_ = keypointsOnCoveredTracks(
       j.keypoints, j.cur_points, ev.r.tracked,
-      coveredTracksNow(j.prev_points, ev.r.tracked, j.prev_depth, j.cur_depth, camera_, known),
+      coveredTracksNow(j.prev_points, ev.r.tracked, j.prev_depth, j.cur_depth, camera_, known,
+                       p_.motion.depth_edge_ratio),
       size, spacing);
   const std::size_t held_back = holdBackMovedSpace(pose.pose_wc, ev.r, dynamic);
   const std::size_t unjudged = std::size_t(std::count(unjudged_.begin(), unjudged_.end(), 1));
@@ -359,7 +366,8 @@ bool DynamicFeatureFilter::judge(const cv::Matx44d& prev_pose_wc, const TrackedP
   ++judged_frames_;
   writeDebugImage(j.box_mask, ev.mask);
   logf(LogLevel::kTrace, "dynamic",
-       "frame %ld: judged under the tracker's motion: %zu flagged, %zu unjudged (%zu in moved space)",
+       "frame %ld: judged under the tracker's motion: %zu flagged, %zu unjudged (%zu in moved "
+       "space)",
        frame_, flagged, unjudged, held_back);
   // The next frame goes on from these verdicts.
   selectFlowPoints(j.keypoints, ev.carried, ev.carried_age);
@@ -437,16 +445,14 @@ cv::Mat DynamicFeatureFilter::boxMask(const cv::Mat& depth, const std::vector<De
       if (!boxes[b].box.contains(q)) continue;
       const int u = cvRound(q.x), v = cvRound(q.y);
       if (u < 0 || v < 0 || u >= depth.cols || v >= depth.rows) continue;
-      if (const uint16_t d = depth.at<uint16_t>(v, u))
-        z.push_back(float(d / camera_.depth_scale));
+      if (const uint16_t d = depth.at<uint16_t>(v, u)) z.push_back(float(d / camera_.depth_scale));
     }
     if (p_.min_hint_points > 0 && int(z.size()) >= p_.min_hint_points) {
       std::nth_element(z.begin(), z.begin() + z.size() / 2, z.end());
       hints[b] = z[z.size() / 2];
     }
   }
-  return box_masker_.computeFromBoxes(depth, camera_.depth_scale, boxes, nullptr,
-                                      &hints);
+  return box_masker_.computeFromBoxes(depth, camera_.depth_scale, boxes, nullptr, &hints);
 }
 
 void DynamicFeatureFilter::buildMask(const MotionEvidence& ev, const cv::Mat& box_mask) {

@@ -23,11 +23,11 @@
 //      motion: those flags replace the pre-flags for the keyframe decision
 //      and mapping (with the box surfaces of the boxes the detector still
 //      confirms, not of those carried on from a miss), and their moving
-//      points seed the next frame. Keypoints
-//      in space where tracks were seen moving recently (MovedSpaceMemory)
-//      make no map point: an object that stops and moves on again (a
-//      parked trolley, a person who waits) never enters the map, so the
-//      tracker's pose cannot follow it when it leaves.
+//      points seed the next frame. Keypoints in space where tracks were seen
+//      moving recently (MovedSpaceMemory) make no map point: an object
+//      that stops and moves on again (a parked trolley, a person who
+//      waits) never enters the map, so the tracker's pose cannot follow it
+//      when it leaves.
 // A frame without a tracked pose (or after one) keeps its pre-flags.
 //
 // Cost: LK runs on at most max_flow_points keypoints of the previous frame
@@ -161,9 +161,9 @@ class DynamicFeatureFilter : public ObservationPreprocessor {
   bool judge(const cv::Matx44d& prev_pose_wc, const TrackedPose& pose,
              std::vector<uint8_t>& dynamic);
   /// Lets the judged tracks vote in moved_space_ (static, or moving inside a
-  /// region that passed the region vote), and marks the keypoints not flagged `dynamic` that
-  /// lie in space seen moving as unjudged (no map point from them); returns
-  /// how many it marked.
+  /// region that passed the region vote), and marks the keypoints not
+  /// flagged `dynamic` that lie in space seen moving as unjudged (no map
+  /// point from them); returns how many it marked.
   std::size_t holdBackMovedSpace(const cv::Matx44d& pose_wc, const MotionResult& judged,
                                  const std::vector<uint8_t>& dynamic);
   /// $DYNSLAM_DEBUG_DYNAMIC_DIR/<frame>.png: the mask's parts.

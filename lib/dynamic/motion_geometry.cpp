@@ -225,13 +225,6 @@ GeometryResult classifyMotion(const Correspondences& c, const cv::Matx33d& K,
   return r;
 }
 
-namespace {
-
-// Back-projects pixel p of `depth` (raw units), whose undistorted position is
-// `undist`, into the camera frame; z = 0
-// when there is no depth or p sits on a depth edge (3x3 spread too large).
-}  // namespace
-
 std::vector<cv::Point2f> undistortPixels(const std::vector<cv::Point2f>& raw,
                                          const PinholeCamera& camera) {
   std::vector<cv::Point2f> out = raw;

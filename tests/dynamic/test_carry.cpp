@@ -103,17 +103,20 @@ TEST(BoxCarrier, NewDetectionReplacesOverlappingBoxKeepsOthers) {
   EXPECT_EQ(c.carried()[1].detected_frame, 0);
 }
 
-TEST(BoxCarrier, BoxesDetectedSinceLeavesOutTheOnesCarriedOnFromAMiss) {
+TEST(BoxCarrier, SplitAtSeparatesTheOnesCarriedOnFromAMiss) {
   BoxCarrier c;
   c.addDetections(0, {person(100, 100, 50, 100), person(400, 100, 50, 100)});
   for (long f = 1; f <= 3; ++f) c.advanceWithoutFlow(f);
   c.addDetections(3, {person(105, 100, 50, 100)});  // the second person was missed
   ASSERT_EQ(c.boxes().size(), 2u);                  // both still carried
-  const auto since3 = c.boxesDetectedSince(3);
-  ASSERT_EQ(since3.size(), 1u);
-  EXPECT_FLOAT_EQ(since3[0].box.x, 105);
-  EXPECT_EQ(c.boxesDetectedSince(0).size(), 2u);
-  EXPECT_TRUE(c.boxesDetectedSince(4).empty());
+  const auto at3 = c.boxesSplitAt(3);
+  ASSERT_EQ(at3.confirmed.size(), 1u);
+  EXPECT_FLOAT_EQ(at3.confirmed[0].box.x, 105);
+  ASSERT_EQ(at3.carried_on.size(), 1u);
+  EXPECT_FLOAT_EQ(at3.carried_on[0].box.x, 400);
+  EXPECT_EQ(c.boxesSplitAt(0).confirmed.size(), 2u);
+  EXPECT_TRUE(c.boxesSplitAt(4).confirmed.empty());
+  EXPECT_EQ(c.boxesSplitAt(4).carried_on.size(), 2u);
 }
 
 TEST(BoxCarrier, BadInputsThrow) {
