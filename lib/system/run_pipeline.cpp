@@ -46,7 +46,7 @@ RunSummary runSlam(const RunOptions& opt) {
       opt.config_path.empty() ? defaultSlamConfigPath() : opt.config_path;
   const SlamConfig loaded_cfg = loadSlamConfig(config_path);
   const std::string config_used = slamConfigYaml(loaded_cfg);  // before the mode's derived changes
-  const SlamConfig cfg = configForMode(loaded_cfg, opt.mode);
+  const SlamConfig cfg = configForMode(loaded_cfg, opt.mode, opt.localize);
 
   std::unique_ptr<FrameSource> source = openSequence(opt.input, opt.camera_config, opt.sensor);
   std::size_t n = source->size();

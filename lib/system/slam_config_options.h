@@ -152,6 +152,11 @@ void forEachLoopClosingOption(P& p, F&& f) {
 /// a parent before its subsections ("dynamic" before "dynamic.detector");
 /// for_each(g) calls g(key, field) for the section's keys. Config:
 /// SlamConfig, const or not.
+template <class P, class F>
+void forEachLocalisationOption(P& p, F&& f) {
+  f("detector_interval_frames", p.detector_interval_frames);
+}
+
 template <class Config, class F>
 void forEachSlamConfigSection(Config& c, F&& f) {
   f("system", [&](auto&& g) { forEachSystemOption(c.system, g); });
@@ -169,6 +174,7 @@ void forEachSlamConfigSection(Config& c, F&& f) {
   f("dynamic.motion_check.region_grow",
     [&](auto&& g) { forEachRegionGrowOption(c.dynamic.motion.grow, g); });
   f("loop_closing", [&](auto&& g) { forEachLoopClosingOption(c.loop, g); });
+  f("localisation", [&](auto&& g) { forEachLocalisationOption(c.localisation, g); });
   f("map_export", [&](auto&& g) { forEachDenseMapOption(c.map_export, g); });
   f("occupancy_map", [&](auto&& g) { forEachOccupancyOption(c.occupancy_map, g); });
 }

@@ -44,6 +44,8 @@ void validateSlamConfig(const SlamConfig& c, const std::string& path) {
                      "0 <= carry_frames <= 255, 0 < max_map_inliers_flagged <= 1 required");
   if (d.detector_interval < 1)
     throw InputError(path, "dynamic.detector: interval_frames >= 1 required");
+  if (c.localisation.detector_interval_frames < 0)
+    throw InputError(path, "localisation: detector_interval_frames >= 0 required");
   if (c.mapper.ba_lag_frames < 1)
     throw InputError(path, "local_mapper: ba_lag_frames >= 1 required");
   if (!(d.box_mask.depth_band_m > 0) || !(d.box_mask.connected_step >= 0) ||
@@ -137,11 +139,13 @@ std::string slamConfigKeys() {
   return out;
 }
 
-SlamConfig configForMode(SlamConfig config, DynamicMode mode) {
+SlamConfig configForMode(SlamConfig config, DynamicMode mode, bool localize) {
   config.dynamic.use_detector = usesDetector(mode);
   config.dynamic.use_flow = usesFlow(mode);
   if (mode != DynamicMode::kOff && config.dynamic.orb_features > 0)
     config.orb.n_features = config.dynamic.orb_features;
+  if (localize && config.localisation.detector_interval_frames > 0)
+    config.dynamic.detector_interval = config.localisation.detector_interval_frames;
   return config;
 }
 

@@ -39,6 +39,17 @@ struct SystemParams {
   int final_ba_iterations = 10;
 };
 
+/// Runs with --localize (track only, in a loaded map).
+struct LocalisationParams {
+  /// The detector runs on every this-many-th frame instead of
+  /// dynamic.detector.interval_frames (0: the same). In localisation no
+  /// keyframe or map point is added, so the flags cannot let a mover into
+  /// the map; they only keep the tracker's matches off movers, and the flow
+  /// carries the boxes between runs. Without the mapper the detector's
+  /// thread sets the frame rate.
+  int detector_interval_frames = 5;
+};
+
 struct SlamConfig {
   SystemParams system;
   OrbParams orb;
@@ -49,6 +60,7 @@ struct SlamConfig {
   DynamicFilterParams dynamic;
   /// Place recognition, BoW relocalisation and loop closing.
   loop::LoopClosingParams loop;
+  LocalisationParams localisation;
   /// Read by `dynslam export` (the dense map and the occupancy maps); part
   /// of the config so that a run's config_used.yaml is the whole file.
   DenseMapOptions map_export;
@@ -70,9 +82,11 @@ std::string slamConfigYaml(const SlamConfig& config);
 /// The config a run in `mode` uses: the dynamic filter's use_detector /
 /// use_flow from the mode and, in the dynamic modes, dynamic.orb_features
 /// keypoints per frame (when > 0) instead of orb.n_features, because a third
-/// of them can land on movers and be dropped. config_used.yaml holds the
-/// config before this step, so that it repeats a run in any mode.
-SlamConfig configForMode(SlamConfig config, DynamicMode mode);
+/// of them can land on movers and be dropped; with `localize`, the
+/// detector's interval of the localisation section (when > 0).
+/// config_used.yaml holds the config before this step, so that it repeats a
+/// run in any mode.
+SlamConfig configForMode(SlamConfig config, DynamicMode mode, bool localize = false);
 
 /// "section: key, key, ...", one line per section (for help texts).
 std::string slamConfigKeys();

@@ -141,7 +141,7 @@ TEST(ConfigOptions, DumpReadsBackToTheSameValues) {
 TEST(ConfigOptions, EverySectionRejectsUnknownKeys) {
   TempDir d;
   const std::vector<std::string> names = sectionNames();
-  EXPECT_EQ(names.size(), 15u);
+  EXPECT_EQ(names.size(), 16u);
   for (const std::string& name : names) {
     writeText(d / "bad.yaml", nestedYaml(name, "no_such_key", "1"));
     try {
@@ -189,6 +189,29 @@ TEST(ConfigForMode, SetsTheFilterPathsAndTheDynamicKeypointBudget) {
   ASSERT_NE(at, std::string::npos);
   a.replace(at, 16, "n_features: 1500");
   EXPECT_EQ(a, b);
+}
+
+// In localisation (--localize) the detector runs on the localisation
+// section's interval (5 by default, against 3 when mapping), unless that is 0.
+TEST(ConfigForMode, LocalisationRunsTheDetectorOnItsOwnInterval) {
+  SlamConfig c;
+  ASSERT_EQ(c.dynamic.detector_interval, 3);
+  ASSERT_EQ(c.localisation.detector_interval_frames, 5);
+  EXPECT_EQ(configForMode(c, DynamicMode::kDetectAndFlow).dynamic.detector_interval, 3);
+  EXPECT_EQ(configForMode(c, DynamicMode::kDetectAndFlow, true).dynamic.detector_interval, 5);
+  EXPECT_EQ(configForMode(c, DynamicMode::kDetect, true).dynamic.detector_interval, 5);
+  c.localisation.detector_interval_frames = 0;  // 0: as when mapping
+  EXPECT_EQ(configForMode(c, DynamicMode::kDetectAndFlow, true).dynamic.detector_interval, 3);
+  // A negative interval is refused, naming the file and the section.
+  TempDir d;
+  writeText(d / "bad.yaml", "localisation:\n  detector_interval_frames: -1\n");
+  try {
+    loadSlamConfig(d / "bad.yaml");
+    ADD_FAILURE() << "a negative localisation interval was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("bad.yaml"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("localisation"), std::string::npos) << e.what();
+  }
 }
 
 TEST(ConfigOptions, KeyListNamesEverySectionAndKey) {

@@ -172,6 +172,23 @@ TEST_F(SavedMap, LocalisationTracksInTheMapsFrameAndLeavesItUnchanged) {
   EXPECT_GT(errorsInMapFrame(gt, firstTimestamp(), frozen).rot, 3 * (mapped_err.rot + 1.0));
 }
 
+// Localisation runs the detector on the localisation section's interval (5),
+// not on the mapping one (3): over 30 frames it detects on frames 0, 5, ...,
+// 25 (the last perhaps unfinished at the end), where mapping would detect on
+// 10 frames.
+TEST_F(SavedMap, LocalisationRunsTheDetectorLessOften) {
+  const std::string loc = *dir_ / "loc_detect";
+  const CommandResult r = runDynslam({"run", rpyDir(), "--mode", "detect", "--max-frames", "30",
+                                      "--map", mapFile(), "--localize", "-o", loc});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  cv::FileStorage report = openRunReport(loc);
+  ASSERT_TRUE(report.isOpened());
+  const int runs = static_cast<int>(report["dynamic"]["detector_runs"]);
+  EXPECT_GE(runs, 5);
+  EXPECT_LE(runs, 6);
+  EXPECT_GE(static_cast<int>(report["tracked_frames"]), 28);
+}
+
 namespace {
 /// A second session on the saved map, mapping the same 60 frames again.
 std::string secondSession(const std::string& dir, const std::string& map_file) {
