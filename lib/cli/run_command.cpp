@@ -68,7 +68,8 @@ int runMain(int argc, char** argv) {
   TCLAP::SwitchArg localize("", "localize",
                             "with --map: track only, against the loaded map (relocalising "
                             "whenever lost); no keyframes or map points are added and the map "
-                            "is not changed (report.json loaded_map.unchanged)",
+                            "is not changed (report.json loaded_map.unchanged). The detector "
+                            "runs on every localisation.detector_interval_frames-th frame",
                             cmd);
   TCLAP::SwitchArg save_map("", "save-map", "also write the final map to OUT_DIR/map.dsm", cmd);
   int exit_code = kOk;
