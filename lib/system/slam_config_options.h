@@ -148,15 +148,15 @@ void forEachLoopClosingOption(P& p, F&& f) {
   f("global_ba", p.global_ba);
 }
 
-/// Calls f(section, for_each) for every section of the file in file order,
-/// a parent before its subsections ("dynamic" before "dynamic.detector");
-/// for_each(g) calls g(key, field) for the section's keys. Config:
-/// SlamConfig, const or not.
 template <class P, class F>
 void forEachLocalisationOption(P& p, F&& f) {
   f("detector_interval_frames", p.detector_interval_frames);
 }
 
+/// Calls f(section, for_each) for every section of the file in file order,
+/// a parent before its subsections ("dynamic" before "dynamic.detector");
+/// for_each(g) calls g(key, field) for the section's keys. Config:
+/// SlamConfig, const or not.
 template <class Config, class F>
 void forEachSlamConfigSection(Config& c, F&& f) {
   f("system", [&](auto&& g) { forEachSystemOption(c.system, g); });
