@@ -202,8 +202,11 @@ cv::Mat DynamicFeatureFilter::prepare(const RGBDFrame& frame, const cv::Mat& gra
   // check finds. The pre-flags, which only guide tracking, keep it. (Each
   // box's surface depends on that box alone, so the two masks add up.)
   t0 = SteadyClock::now();
-  const BoxCarrier::ConfirmedSplit split =
-      carrier_.boxesSplitAt(frame_ - 3 * long(p_.detector_interval) + 1);
+  // Boxes arrive `interval` frames after the frame they were detected on and
+  // runs are `interval` apart, so the last two runs detected within the last
+  // 3 x interval - 1 frames.
+  const long interval = p_.detector_interval;
+  const BoxCarrier::ConfirmedSplit split = carrier_.boxesSplitAt(frame_ - 3 * interval + 1);
   const cv::Mat confirmed_mask = boxMask(frame.depth, split.confirmed, pre.moving);
   cv::Mat box_mask = boxMask(frame.depth, split.carried_on, pre.moving);
   if (box_mask.empty())
