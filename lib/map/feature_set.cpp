@@ -70,8 +70,7 @@ Eigen::Vector3d FeatureSet::unprojectCamera(std::size_t i) const {
   return ctx->proj.unproject(keys_un[i].pt.x, keys_un[i].pt.y, depth[i]);
 }
 
-void FeatureSet::finalize(const cv::Mat& depth_raw, const cv::Mat& rgb,
-                          const mrpt::poses::CPose3D* rgb_from_depth) {
+void FeatureSet::finalize(const cv::Mat& depth_raw, const cv::Mat& rgb) {
   const FrameContext& c = *ctx;
   const std::size_t n = keys.size();
   keys_un = keys;
@@ -94,34 +93,8 @@ void FeatureSet::finalize(const cv::Mat& depth_raw, const cv::Mat& rgb,
   ur.assign(n, -1.f);
   if (dynamic.size() != n) dynamic.assign(n, 0);
   const double inv_scale = 1.0 / c.camera.depth_scale;
-  Eigen::Matrix3d R_dr = Eigen::Matrix3d::Identity();  // RGB camera -> depth camera rotation
-  Eigen::Matrix3d R_rd = R_dr;
-  Eigen::Vector3d t_rd = Eigen::Vector3d::Zero();
-  if (rgb_from_depth) {
-    const auto& R = rgb_from_depth->getRotationMatrix();
-    for (int r = 0; r < 3; ++r)
-      for (int k = 0; k < 3; ++k) R_rd(r, k) = R(r, k);
-    t_rd = Eigen::Vector3d(rgb_from_depth->x(), rgb_from_depth->y(), rgb_from_depth->z());
-    R_dr = R_rd.transpose();
-  }
-  const ProjectionModel& P = c.proj;
   for (std::size_t i = 0; i < n; ++i) {
-    cv::Point2f at = keys[i].pt;
-    Eigen::Vector3d ray_d;  // keypoint's ray in the depth camera
-    if (rgb_from_depth) {
-      // The pixel shift is dominated by rotation (depth-independent); the
-      // undistorted shift is applied to the raw pixel.
-      const Eigen::Vector3d ray_r((keys_un[i].pt.x - P.cx) / P.fx, (keys_un[i].pt.y - P.cy) / P.fy,
-                                  1);
-      ray_d = R_dr * ray_r;
-      if (ray_d.z() <= 0) continue;
-      ray_d /= ray_d.z();
-      at.x += static_cast<float>(P.fx * ray_d.x() + P.cx - keys_un[i].pt.x);
-      at.y += static_cast<float>(P.fy * ray_d.y() + P.cy - keys_un[i].pt.y);
-    }
-    double d = depthAt(depth_raw, at, c.depth_edge_window, c.depth_edge_ratio) * inv_scale;
-    if (d <= 0) continue;
-    if (rgb_from_depth) d = (R_rd * (d * ray_d) + t_rd).z();
+    const double d = depthAt(depth_raw, keys[i].pt, c.depth_edge_window, c.depth_edge_ratio) * inv_scale;
     if (d <= 0) continue;
     depth[i] = static_cast<float>(d);
     ur[i] = static_cast<float>(keys_un[i].pt.x - c.proj.bf / d);

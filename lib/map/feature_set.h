@@ -57,14 +57,7 @@ struct FeatureSet {
   /// builds the grids (dynamic keypoints are left out of `grid`, so no
   /// matcher ever sees them; they go to `dynamic_grid`).
   /// rgb (BGR, optional) gives the keypoint colours.
-  /// rgb_from_depth (optional): the camera at the depth image's time seen from
-  /// the camera at the RGB image's time. Depth and RGB of a Kinect-class
-  /// sensor are up to ~15 ms apart; at 80 deg/s that is ~10 px, enough to read
-  /// every keypoint's depth off the wrong surface patch. With it, each
-  /// keypoint's depth is read where the point was at the depth time and moved
-  /// back into the RGB camera.
-  void finalize(const cv::Mat& depth_raw, const cv::Mat& rgb = cv::Mat(),
-                const mrpt::poses::CPose3D* rgb_from_depth = nullptr);
+  void finalize(const cv::Mat& depth_raw, const cv::Mat& rgb = cv::Mat());
   /// (Re)builds grid and dynamic_grid from keys_un and dynamic: after
   /// finalize, when the dynamic flags change.
   void buildGrids();

@@ -21,7 +21,6 @@ void forEachSystemOption(P& p, F&& f) {
   f("prefetch_frames", p.prefetch_frames);
   f("final_global_ba", p.final_global_ba);
   f("final_ba_iterations", p.final_ba_iterations);
-  f("depth_time_compensation", p.depth_time_compensation);
 }
 
 template <class P, class F>
@@ -53,7 +52,6 @@ void forEachTrackerOption(P& p, F&& f) {
   f("reloc_recent", p.reloc_recent);
   f("reloc_min_matches", p.reloc_min_matches);
   f("reloc_min_inliers", p.reloc_min_inliers);
-  f("temporal_points", p.temporal_points);
 }
 
 template <class P, class F>

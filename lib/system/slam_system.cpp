@@ -86,11 +86,7 @@ FrameOutcome SlamSystem::process(const RGBDFrame& frame) {
   feats->dynamic.assign(feats->keys.size(), 0);
   if (preprocessor_) preprocessor_->process(frame, gray_, feats->keys, feats->dynamic);
   const auto t2 = Clock::now();
-  mrpt::poses::CPose3D rgb_from_depth;
-  const bool shift_depth =
-      cfg_.system.depth_time_compensation && frame.depth_timestamp != 0 &&
-      tracker_->predictMotion(frame.depth_timestamp - frame.timestamp, rgb_from_depth);
-  feats->finalize(frame.depth, frame.rgb, shift_depth ? &rgb_from_depth : nullptr);
+  feats->finalize(frame.depth, frame.rgb);
 
   FrameOutcome out;
   out.features = feats;

@@ -30,9 +30,6 @@ struct SystemParams {
   double depth_edge_ratio = 0.05;
   /// Frames decoded ahead of tracking by a reader thread (0: none).
   int prefetch_frames = 4;
-  /// Read keypoint depths where the scene was at the depth image's timestamp
-  /// (constant-velocity prediction), not at the RGB image's.
-  bool depth_time_compensation = false;
   /// After the last frame, one bundle adjustment over all keyframes and map
   /// points (the first keyframe fixed), with this many iterations per stage.
   bool final_global_ba = true;

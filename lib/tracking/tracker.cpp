@@ -46,7 +46,6 @@ TrackResult Tracker::estimatePose(std::shared_ptr<const FeatureSet> features, st
     bool ok = false;
     unpredicted_motion_ = false;
     if (state_ == TrackingState::kOk) {
-      if (p_.temporal_points) updateLastFrame();
       ok = velocity_valid_ && trackWithMotionModel();
       unpredicted_motion_ = velocity_valid_ && !ok;
       if (!ok) ok = trackReferenceKeyFrame();
@@ -151,28 +150,6 @@ bool Tracker::initialize() {
   local_points_ = kf->livePoints();
   sink_.insertKeyFrame(kf);
   return true;
-}
-
-void Tracker::updateLastFrame() {
-  // Keep the last frame's pose consistent with its (possibly BA-corrected)
-  // reference keyframe, then add temporary points from its depth so the
-  // motion model has enough to match right after a keyframe was culled.
-  if (!last_.has_pose || !last_.ref_kf) return;
-  if (!records_.empty() && records_.back().index == last_.index && !last_.ref_kf->bad)
-    last_.setPose(last_.ref_kf->worldPose() + records_.back().rel);
-  temp_points_.clear();
-  if (last_kf_ && last_kf_->frame_id == last_.id) return;
-  const FeatureSet& f = last_.f();
-  for (int i : pointsFromDepth(f, false)) {
-    MapPoint* existing = last_.points[i];
-    if (!existing || existing->nObs() < 1) {
-      auto mp = std::make_unique<MapPoint>(-1, last_.pose.toWorld(f.unprojectCamera(i)), nullptr);
-      mp->descriptor = f.descriptors.row(i).clone();
-      last_.points[i] = mp.get();
-      last_.outlier[i] = 0;
-      temp_points_.push_back(std::move(mp));
-    }
-  }
 }
 
 std::vector<int> Tracker::pointsFromDepth(const FeatureSet& f, bool skip_dynamic) const {

@@ -40,10 +40,6 @@ struct TrackerParams {
   /// (a walker keypoint the filter missed once). 0 = off.
   int cull_dynamic_hits = 2;
   int init_min_points = 500;  ///< keypoints with depth to initialise
-  /// Temporary visual-odometry points from the last frame's depth for the
-  /// motion model. Off by default: they chain each pose to the previous
-  /// estimate (drift) instead of the map; useful for map-less tracking only.
-  bool temporal_points = false;
   /// When lost: keyframes tried for relocalisation, and the descriptor
   /// matches / PnP inliers a candidate needs.
   int reloc_candidates = 10;  ///< place-recognition candidates tried when lost
@@ -96,8 +92,7 @@ class Tracker {
 
   /// Constant-velocity prediction of the camera's motion over `dt` seconds
   /// after the last tracked frame: the pose at t+dt in the camera frame at t.
-  /// False without a valid velocity. Used to bring a depth image taken a few
-  /// milliseconds before/after the RGB image to the RGB image's time.
+  /// False without a valid velocity.
   bool predictMotion(double dt, mrpt::poses::CPose3D& motion) const;
 
   /// Camera-to-world pose of every tracked frame, recomputed from its
@@ -138,7 +133,6 @@ class Tracker {
   /// Keypoint i of the current frame is matched to a map point (one with
   /// observations, not a temporal point) and an inlier of the pose.
   bool isMapInlier(std::size_t i) const;
-  void updateLastFrame();
   /// Keypoints with depth, nearest first: every close one (depth below
   /// close_depth) and at least kf_min_new_points in all.
   std::vector<int> pointsFromDepth(const FeatureSet& f, bool skip_dynamic) const;
@@ -171,7 +165,6 @@ class Tracker {
   bool unpredicted_motion_ = false;
   std::vector<KeyFrame*> local_kfs_;
   std::vector<MapPoint*> local_points_;
-  std::vector<std::unique_ptr<MapPoint>> temp_points_;
   std::vector<FramePoseRecord> records_;
   RelocalisationCandidateSource* candidate_source_ = nullptr;
   std::vector<Relocalisation> relocalisations_;
