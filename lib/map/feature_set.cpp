@@ -94,7 +94,8 @@ void FeatureSet::finalize(const cv::Mat& depth_raw, const cv::Mat& rgb) {
   if (dynamic.size() != n) dynamic.assign(n, 0);
   const double inv_scale = 1.0 / c.camera.depth_scale;
   for (std::size_t i = 0; i < n; ++i) {
-    const double d = depthAt(depth_raw, keys[i].pt, c.depth_edge_window, c.depth_edge_ratio) * inv_scale;
+    const double d =
+        depthAt(depth_raw, keys[i].pt, c.depth_edge_window, c.depth_edge_ratio) * inv_scale;
     if (d <= 0) continue;
     depth[i] = static_cast<float>(d);
     ur[i] = static_cast<float>(keys_un[i].pt.x - c.proj.bf / d);
