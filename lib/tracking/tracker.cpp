@@ -90,10 +90,6 @@ TrackResult Tracker::finishFrame(bool flags_changed) {
       createKeyFrame();
       res.new_keyframe = true;
     }
-    // Temporal points must not outlive this frame as matches.
-    for (std::size_t i = 0; i < cur_.points.size(); ++i)
-      if (cur_.points[i] && cur_.points[i]->nObs() == 0 && !cur_.points[i]->ref_kf)
-        cur_.points[i] = nullptr;
   }
   logf(LogLevel::kTrace, "track",
        "frame %zu state %d inliers %d local_kfs %zu local_pts %zu kf %d map_kfs %zu", cur_.index,
@@ -152,10 +148,10 @@ bool Tracker::initialize() {
   return true;
 }
 
-std::vector<int> Tracker::pointsFromDepth(const FeatureSet& f, bool skip_dynamic) const {
+std::vector<int> Tracker::pointsFromDepth(const FeatureSet& f) const {
   std::vector<std::pair<float, int>> by_depth;
   for (std::size_t i = 0; i < f.size(); ++i)
-    if (f.depth[i] > 0 && !(skip_dynamic && (f.dynamic[i] || f.isUnjudged(i))))
+    if (f.depth[i] > 0 && !f.dynamic[i] && !f.isUnjudged(i))
       by_depth.emplace_back(f.depth[i], static_cast<int>(i));
   std::sort(by_depth.begin(), by_depth.end());
   std::vector<int> out;
@@ -500,7 +496,7 @@ void Tracker::createKeyFrame() {
     MapPoint* mp = cur_.points[i];
     if (mp && !mp->bad && mp->nObs() > 0) kf->addPoint(mp, static_cast<int>(i));
   }
-  for (int i : pointsFromDepth(f, true)) {
+  for (int i : pointsFromDepth(f)) {
     if (!kf->points[i]) {
       MapPoint* mp = map_.createMapPoint(kf->pose.toWorld(f.unprojectCamera(i)), kf);
       mp->addObservation(kf, i);

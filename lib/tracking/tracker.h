@@ -131,11 +131,11 @@ class Tracker {
   /// and inliers_ is recounted.
   void dropMatchesOnDynamic();
   /// Keypoint i of the current frame is matched to a map point (one with
-  /// observations, not a temporal point) and an inlier of the pose.
+  /// observations) and an inlier of the pose.
   bool isMapInlier(std::size_t i) const;
-  /// Keypoints with depth, nearest first: every close one (depth below
+  /// Static keypoints with depth, nearest first: every close one (depth below
   /// close_depth) and at least kf_min_new_points in all.
-  std::vector<int> pointsFromDepth(const FeatureSet& f, bool skip_dynamic) const;
+  std::vector<int> pointsFromDepth(const FeatureSet& f) const;
   bool isInFrustum(MapPoint* mp, float view_cos_limit);
   /// See TrackerParams::cull_dynamic_hits.
   void cullPointsOnDynamicKeypoints();
