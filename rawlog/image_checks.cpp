@@ -5,7 +5,10 @@
 
 #include <algorithm>
 #include <array>
+#include <cstdint>
 #include <fstream>
+
+#include <zlib.h>
 
 #include "core/atomic_file.h"
 #include "core/errors.h"
@@ -49,25 +52,40 @@ void checkImageFileComplete(const std::string& path) {
     throw InputError(path, "truncated PNG (no IEND chunk at the end of the file)");
 }
 
-void checkDepthMatrixFile(const std::string& path, std::size_t matrix_bytes) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path, "cannot open depth matrix");
-  unsigned char magic[2] = {0, 0};
-  in.read(reinterpret_cast<char*>(magic), 2);
-  if (!in || magic[0] != 0x1f || magic[1] != 0x8b) return;  // not gzip
-  // The last 4 bytes of a gzip file: uncompressed size (little-endian). A cut
-  // file ends in compressed data instead, which matches by chance < 1e-6.
-  unsigned char t[4] = {0, 0, 0, 0};
-  in.seekg(-4, std::ios::end);
-  in.read(reinterpret_cast<char*>(t), 4);
-  const std::size_t size = std::size_t(t[0]) | std::size_t(t[1]) << 8 | std::size_t(t[2]) << 16 |
-                           std::size_t(t[3]) << 24;
-  constexpr std::size_t kMaxHeader = 1024;
-  if (!in || size < matrix_bytes || size > matrix_bytes + kMaxHeader)
-    throw InputError(path,
-                     "truncated or corrupt depth matrix (its gzip trailer does not give "
-                     "the size of a " +
-                         std::to_string(matrix_bytes) + "-byte matrix)");
+void checkDepthMatrixFile(const std::string& path) {
+  // zlib reads a plain file as it is, so one reader serves both forms.
+  gzFile gz = gzopen(path.c_str(), "rb");
+  if (gz == nullptr) throw InputError(path, "cannot open depth matrix");
+  unsigned char head[8] = {};
+  const int got = gzread(gz, head, sizeof head);
+  const bool compressed = gzdirect(gz) == 0;
+  gzclose(gz);
+  auto u32 = [](const unsigned char* b) {
+    return std::uint32_t(b[0]) | std::uint32_t(b[1]) << 8 | std::uint32_t(b[2]) << 16 |
+           std::uint32_t(b[3]) << 24;
+  };
+  constexpr std::uint32_t kMaxSide = 16384;
+  const std::uint32_t rows = u32(head), cols = u32(head + 4);
+  if (got != sizeof head || rows == 0 || cols == 0 || rows > kMaxSide || cols > kMaxSide)
+    throw InputError(path, "not a depth matrix (its header does not give a size of 1.." +
+                               std::to_string(kMaxSide) + " rows and columns)");
+  const std::uint64_t expected = sizeof head + std::uint64_t(rows) * cols * 2;
+  std::ifstream in(path, std::ios::binary | std::ios::ate);
+  const std::uint64_t file_size = static_cast<std::uint64_t>(in.tellg());
+  std::uint64_t size = file_size;
+  if (compressed) {
+    // The last 4 bytes of a gzip file: the uncompressed size modulo 2^32. A
+    // cut file ends in compressed data instead, which matches by chance < 1e-6.
+    unsigned char t[4] = {};
+    in.seekg(-4, std::ios::end);
+    in.read(reinterpret_cast<char*>(t), 4);
+    size = in ? u32(t) : 0;
+  }
+  if (size != (compressed ? expected & 0xffffffffu : expected))
+    throw InputError(path, "truncated or corrupt depth matrix (" + std::to_string(size) +
+                               " bytes where its header, " + std::to_string(rows) + " x " +
+                               std::to_string(cols) + ", asks for " + std::to_string(expected) +
+                               ")");
 }
 
 cv::Mat readRgbImage(const std::string& path) {

@@ -15,11 +15,12 @@ namespace dynslam {
 /// grey-padded frame without a word. Other formats are not checked.
 void checkImageFileComplete(const std::string& path);
 
-/// Throws InputError(path) if an external depth matrix of a rawlog (MRPT's
-/// gzip-compressed .bin) is cut: MRPT reads a truncated one without a word.
-/// The gzip trailer's uncompressed size must be `matrix_bytes` (rows x cols x
-/// 2) plus a small header. Files that are not gzip are not checked.
-void checkDepthMatrixFile(const std::string& path, std::size_t matrix_bytes);
+/// Throws InputError(path) unless an external depth matrix of a rawlog
+/// (MRPT's .bin: a header of rows and cols as 32-bit integers, then rows x
+/// cols 16-bit values, usually gzip-compressed) is whole and of a sane size.
+/// Called before MRPT reads it: MRPT sizes the matrix from the header without
+/// a check (garbage crashes it) and reads a cut file without a word.
+void checkDepthMatrixFile(const std::string& path);
 
 /// cv::imread as 8-bit BGR; throws InputError(path) if missing, truncated or
 /// undecodable.

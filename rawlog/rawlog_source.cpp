@@ -125,8 +125,11 @@ RGBDFrame RawlogSource::load(std::size_t i) const {
   }
 
   // Depth: the raw uint16 matrix, loaded by MRPT if external.
-  if (s.rangeImage_isExternallyStored() && !fileExists(f.depth_source))
-    throw InputError(f.depth_source, "external depth matrix of the rawlog not found");
+  if (s.rangeImage_isExternallyStored()) {
+    if (!fileExists(f.depth_source))
+      throw InputError(f.depth_source, "external depth matrix of the rawlog not found");
+    checkDepthMatrixFile(f.depth_source);
+  }
   try {
     s.load();
   } catch (const std::exception& e) {
@@ -134,14 +137,6 @@ RGBDFrame RawlogSource::load(std::size_t i) const {
     throw InputError(f.depth_source, "cannot read depth matrix: " + oneLineMessage(e.what()));
   }
   const auto& r = s.rangeImage;
-  if (s.rangeImage_isExternallyStored()) {
-    try {  // the matrix's own size, from the file's header
-      checkDepthMatrixFile(f.depth_source, std::size_t(r.rows()) * std::size_t(r.cols()) * 2);
-    } catch (...) {
-      s.unload();
-      throw;
-    }
-  }
   f.depth.create(static_cast<int>(r.rows()), static_cast<int>(r.cols()), CV_16UC1);
   for (int y = 0; y < f.depth.rows; ++y) {
     auto* row = f.depth.ptr<uint16_t>(y);

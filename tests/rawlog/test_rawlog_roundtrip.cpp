@@ -295,6 +295,51 @@ TEST(RawlogSource, MissingExternalFileNamesIt) {
   EXPECT_TRUE(contains(errorOf([&] { src.load(1); }), f1.depth_source));
 }
 
+// An external depth matrix is checked before MRPT reads it: MRPT sizes the
+// matrix from the file's header without a check, so garbage there crashed the
+// run (a segfault, found by fuzzing). Known data: the matrix the fake sequence
+// wrote; an uncompressed copy of the same file still loads, exactly.
+TEST(RawlogSource, BrokenExternalDepthMatrixNamesIt) {
+  TempDir d;
+  const FakeSequence s = makeFakeSequence(d.path(), 2);
+  const std::string out = d / "b.rawlog";
+  convertTumToRawlog(s.dir, out, quietWith(s));
+  RawlogSource src(out);
+  const RGBDFrame good = src.load(1);
+  const std::string path = good.depth_source;
+  std::string plain;  // the matrix file uncompressed: header and values
+  {
+    mrpt::io::CFileGZInputStream in(path);
+    char buf[4096];
+    for (std::size_t n; (n = in.Read(buf, sizeof buf)) > 0;) plain.append(buf, n);
+  }
+  ASSERT_EQ(plain.size(), 8 + good.depth.total() * 2);
+  writeText(path, plain);
+  EXPECT_TRUE(sameMat(src.load(1).depth, good.depth)) << "an uncompressed matrix loads";
+
+  auto header = [](uint32_t rows, uint32_t cols) {
+    std::string h(8, '\0');
+    for (int k = 0; k < 4; ++k) {
+      h[k] = static_cast<char>((rows >> (8 * k)) & 0xff);
+      h[4 + k] = static_cast<char>((cols >> (8 * k)) & 0xff);
+    }
+    return h;
+  };
+  const std::vector<std::pair<std::string, std::string>> broken = {
+      {std::string("\x79\x42\xbd\xf2\x21\x06\xf0\x84", 8), "not a depth matrix"},
+      {header(0x7fffffff, 0x7fffffff) + plain.substr(8), "not a depth matrix"},
+      {header(0, good.depth.cols) + plain.substr(8), "not a depth matrix"},
+      {plain.substr(0, plain.size() / 2), "truncated or corrupt"},
+      {header(good.depth.rows, good.depth.cols + 1) + plain.substr(8), "truncated or corrupt"},
+      {"", "not a depth matrix"}};
+  for (const auto& [bytes, reason] : broken) {
+    writeText(path, bytes);
+    const std::string m = errorOf([&] { src.load(1); });
+    EXPECT_TRUE(contains(m, path)) << m;
+    EXPECT_TRUE(contains(m, reason)) << m;
+  }
+}
+
 // The comparison every round-trip test relies on must notice one pixel.
 TEST(TestHelpers, SameMatDetectsOneDifferentValue) {
   cv::Mat a(4, 5, CV_16UC1, cv::Scalar(1000)), b = a.clone();
