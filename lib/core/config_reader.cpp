@@ -4,6 +4,9 @@
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
+#include <iterator>
+#include <sstream>
+#include <vector>
 
 #include "core/atomic_file.h"
 #include "core/mrpt_messages.h"
@@ -33,7 +36,7 @@ std::string scalarText(const mrpt::containers::yaml& node) {
 ConfigSection::ConfigSection(const mrpt::containers::yaml& node, std::string file,
                              std::string section)
     : node_(node), file_(std::move(file)), section_(std::move(section)) {
-  if (!node_.isNullNode() && !node_.empty() && !node_.isMap())
+  if (!node_.isNullNode() && !node_.isMap())
     throw InputError(file_,
                      (section_.empty() ? "the file" : section_) + ": expected a map of key: value");
 }
@@ -98,23 +101,93 @@ YamlDiagnostic parseYamlDiagnostic(const std::string& text) {
   }
   return d;
 }
+
+std::size_t indentOf(const std::string& line) { return line.find_first_not_of(' '); }
+
+/// Blank or comment only.
+bool isEmptyLine(const std::string& line) {
+  const auto b = line.find_first_not_of(" \t\r");
+  return b == std::string::npos || line[b] == '#';
+}
+
+/// Two things MRPT's YAML reader cannot take, dealt with before it reads the
+/// text (line numbers unchanged). A key with nothing after it and nothing
+/// indented under it (a section whose keys are all commented out) is null in
+/// YAML, but MRPT rejects it as an "unexpected empty scalar": it gets an
+/// explicit null, "~". Flow collections nested deeper than any config needs
+/// ('[' x 30000) overflow the reader's recursion: an error naming the line.
+std::string prepareYamlText(const std::string& path, const std::string& text) {
+  std::vector<std::string> lines;
+  for (std::size_t b = 0; b <= text.size();) {
+    const auto e = text.find('\n', b);
+    lines.push_back(text.substr(b, e == std::string::npos ? std::string::npos : e - b));
+    if (e == std::string::npos) break;
+    b = e + 1;
+  }
+  constexpr int kMaxNesting = 64;
+  int depth = 0;
+  for (std::size_t i = 0; i < lines.size(); ++i) {
+    char quote = 0;
+    for (char c : lines[i]) {
+      if (quote) {
+        if (c == quote) quote = 0;
+      } else if (c == '"' || c == '\'') {
+        quote = c;
+      } else if (c == '#') {
+        break;
+      } else if (c == '[' || c == '{') {
+        if (++depth > kMaxNesting)
+          throw InputError(
+              path, i + 1,
+              "lists or maps nested more than " + std::to_string(kMaxNesting) + " levels deep");
+      } else if (c == ']' || c == '}') {
+        --depth;
+      }
+    }
+  }
+  std::string out;
+  for (std::size_t i = 0; i < lines.size(); ++i) {
+    std::string line = lines[i];
+    const auto ind = indentOf(line);
+    const auto colon = line.find(':');
+    const auto hash = line.find('#');
+    const bool bare_key = ind != std::string::npos && line[ind] != '#' && line[ind] != '-' &&
+                          line[ind] != '"' && line[ind] != '\'' && colon != std::string::npos &&
+                          colon < hash && line.find_first_not_of(" \t\r", colon + 1) >= hash;
+    if (bare_key) {
+      std::size_t j = i + 1;
+      while (j < lines.size() && isEmptyLine(lines[j])) ++j;
+      const bool nested = j < lines.size() && (indentOf(lines[j]) > ind ||
+                                               (indentOf(lines[j]) == ind && lines[j][ind] == '-'));
+      if (!nested) line.insert(colon + 1, " ~");
+    }
+    out += line;
+    if (i + 1 < lines.size()) out += '\n';
+  }
+  return out;
+}
 }  // namespace
 
 mrpt::containers::yaml loadYamlFile(const std::string& path) {
   if (!fileExists(path)) throw InputError(path, "config file not found");
+  std::string text;
   {
-    std::ifstream text(path);
-    const DuplicateKey d = findDuplicateKey(text);
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw InputError(path, "cannot read config file");
+    text.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    std::istringstream lines(text);
+    const DuplicateKey d = findDuplicateKey(lines);
     if (d.line)
       throw InputError(
           path, d.line,
           "duplicate key '" + d.key + "' (first on line " + std::to_string(d.first_line) + ")");
   }
+  text = prepareYamlText(path, text);
   mrpt::containers::yaml y;
   std::string diagnostics;
   try {
     StderrCapture capture;  // the parser prints its errors instead of throwing
-    y = mrpt::containers::yaml::FromFile(path);
+    y = mrpt::containers::yaml::FromText(text);
     diagnostics = capture.finish();
   } catch (const std::exception& e) {
     throw InputError(path, "not valid YAML: " + oneLineMessage(e.what()));

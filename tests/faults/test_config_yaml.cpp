@@ -60,6 +60,13 @@ TEST_F(BadYaml, BareScalarCamera) { expectRejected("42\n", true); }
 TEST_F(BadYaml, RandomBytes) { expectRejected(std::string("\x01\x9c\xff:\x00\x7f[{", 9) + "\n"); }
 TEST_F(BadYaml, HugePyramid) { expectRejected("orb:\n  n_levels: 1000000\n"); }
 TEST_F(BadYaml, HugeFeatureCount) { expectRejected("orb:\n  n_features: 1e12\n"); }
+// MRPT's YAML reader recursed until the stack overflowed (a segfault).
+TEST_F(BadYaml, DeeplyNestedLists) { expectRejected(std::string(30000, '[') + "\n", false, ":1:"); }
+TEST_F(BadYaml, DeeplyNestedCameraMaps) {
+  expectRejected("camera: " + std::string(30000, '{') + "\n", true, ":1:");
+}
+// MRPT's own "empty() called on a scalar node" named no file.
+TEST_F(BadYaml, SectionGivenAsAValue) { expectRejected("orb: 5\n"); }
 
 // The control: a valid camera file (the same text) runs.
 TEST_F(BadYaml, ValidCameraRuns) {

@@ -159,6 +159,27 @@ TEST(ConfigOptions, EverySectionRejectsUnknownKeys) {
   EXPECT_THROW(loadSlamConfig(d / "bad.yaml"), InputError);
 }
 
+// A key with nothing under it is null in YAML: a section whose keys are all
+// commented out, or left empty, keeps its defaults (MRPT's reader alone
+// rejected it as an "unexpected empty scalar"), wherever it stands, and the
+// other sections are read as written. A key with its value on the next,
+// deeper line is not mistaken for an empty one.
+TEST(ConfigOptions, EmptySectionsKeepTheirDefaults) {
+  TempDir d;
+  const SlamConfig defaults;
+  for (const std::string& text :
+       {std::string("orb:\n  # n_features: 500\ntracker:\n  min_inliers_local: 31\n"),
+        std::string("orb:\n\ntracker:\n  min_inliers_local: 31\n"),
+        std::string("tracker:\n  min_inliers_local: 31\norb:\n  # n_features: 500\n"),
+        std::string("tracker:\n  min_inliers_local:\n    31\norb:  # empty\n")}) {
+    writeText(d / "c.yaml", text);
+    SlamConfig c;
+    ASSERT_NO_THROW(c = loadSlamConfig(d / "c.yaml")) << text;
+    EXPECT_EQ(c.tracker.min_inliers_local, 31) << text;
+    EXPECT_EQ(c.orb.n_features, defaults.orb.n_features) << text;
+  }
+}
+
 // What a mode changes in the loaded config: the filter's two paths, and
 // dynamic.orb_features keypoints per frame in the dynamic modes only.
 TEST(ConfigForMode, SetsTheFilterPathsAndTheDynamicKeypointBudget) {
