@@ -3,6 +3,8 @@
 #include <cmath>
 #include <filesystem>
 #include <map>
+#include <sstream>
+#include <type_traits>
 
 #include "core/camera.h"
 #include "core/config_reader.h"
@@ -15,6 +17,13 @@ namespace dynslam {
 std::string defaultSlamConfigPath() { return configDir() + "/dynslam.yaml"; }
 
 namespace {
+
+template <typename T>
+std::string formatNumber(T value) {
+  std::ostringstream s;
+  s << value;
+  return s.str();
+}
 
 /// Range checks across keys; throws InputError(path) naming the section.
 void validateSlamConfig(const SlamConfig& c, const std::string& path) {
@@ -63,8 +72,29 @@ void validateSlamConfig(const SlamConfig& c, const std::string& path) {
                      "reprojection_threshold_px > 0, "
                      "0 <= region_min_dynamic_ratio <= 1, max_seed_distance_px >= 0, "
                      "region_grow step_tolerance, max_depth_offset_m > 0 required");
+  // Iteration counts far beyond any use run for hours (rounds 100000: 20
+  // frames took over a minute); thread counts beyond a machine's cores only
+  // make Ceres complain.
+  if (c.pose_optimizer.rounds > 100 || c.pose_optimizer.iterations_per_round > 1000)
+    throw InputError(path, "pose_optimizer: rounds <= 100, iterations_per_round <= 1000 required");
+  if (c.mapper.ba.iterations_first > 1000 || c.mapper.ba.iterations_second > 1000 ||
+      c.system.final_ba_iterations > 1000 || c.mapper.ba.threads > 256)
+    throw InputError(path,
+                     "local_mapper.bundle_adjustment: iterations_first, iterations_second and "
+                     "system.final_ba_iterations <= 1000, threads <= 256 required");
   validateDenseMapOptions(c.map_export, path);
   validateOccupancyOptions(c.occupancy_map, path);
+}
+
+/// Every number in the config is a count, a size, a threshold or a weight:
+/// negative values mean nothing (and ran without a word, or hung). The one
+/// signed key is a height that may lie below the floor's estimate.
+template <typename T>
+void checkNotNegative(const std::string& key, const T& value, const std::string& path) {
+  if constexpr (std::is_arithmetic_v<T> && !std::is_same_v<T, bool>) {
+    if (value < 0 && key != "occupancy_map.grid_floor_height")
+      throw InputError(path, key + ": must not be negative (got " + formatNumber(value) + ")");
+  }
 }
 
 /// A path as written in the config at `config_path`: relative ones are
@@ -91,7 +121,10 @@ SlamConfig loadSlamConfig(const std::string& path) {
   };
   forEachSlamConfigSection(c, [&](const std::string& name, auto&& for_each) {
     ConfigSection& s = section(name);
-    for_each([&](const char* key, auto& field) { s.read(key, field); });
+    for_each([&](const char* key, auto& field) {
+      s.read(key, field);
+      checkNotNegative(name + "." + key, field, path);
+    });
   });
   for (const auto& [name, s] : sections) s.rejectUnknownKeys();
   root.rejectUnknownKeys();
