@@ -88,10 +88,22 @@ void checkDepthMatrixFile(const std::string& path) {
                                ")");
 }
 
+namespace {
+/// cv::imread, its own errors (a header claiming a 100000 x 100000 image
+/// trips its size limit) as InputError(path).
+cv::Mat decodeImage(const std::string& path, int flags) {
+  try {
+    return cv::imread(path, flags);
+  } catch (const cv::Exception& e) {
+    throw InputError(path, "cannot decode image: " + std::string(e.err));
+  }
+}
+}  // namespace
+
 cv::Mat readRgbImage(const std::string& path) {
   if (!fileExists(path)) throw InputError(path, "RGB image not found");
   checkImageFileComplete(path);
-  cv::Mat img = cv::imread(path, cv::IMREAD_COLOR);
+  const cv::Mat img = decodeImage(path, cv::IMREAD_COLOR);
   if (img.empty()) throw InputError(path, "cannot decode RGB image (not a readable PNG/JPEG)");
   return img;
 }
@@ -99,7 +111,7 @@ cv::Mat readRgbImage(const std::string& path) {
 cv::Mat readDepthImage(const std::string& path) {
   if (!fileExists(path)) throw InputError(path, "depth image not found");
   checkImageFileComplete(path);
-  cv::Mat img = cv::imread(path, cv::IMREAD_UNCHANGED);
+  const cv::Mat img = decodeImage(path, cv::IMREAD_UNCHANGED);
   if (img.empty()) throw InputError(path, "cannot decode depth image (not a readable PNG)");
   if (img.type() != CV_16UC1)
     throw InputError(path,

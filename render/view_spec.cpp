@@ -67,7 +67,7 @@ ViewSpec ViewSpec::parse(const std::string& text) {
     } catch (const std::exception&) {
       used = 0;
     }
-    if (num.empty() || used != num.size()) {
+    if (num.empty() || used != num.size() || !std::isfinite(v.orbit_deg)) {
       throw std::invalid_argument("bad view '" + text + "': " + usage);
     }
   } else if (text.rfind("pose:", 0) == 0) {

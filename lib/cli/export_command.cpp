@@ -219,8 +219,13 @@ int exportMain(int argc, char** argv) {
   validateOccupancyOptions(occupancy_options, "command line");
   if (groundtruth_arg.isSet()) {
     const std::size_t n = run.keyframes.size();
-    run.keyframes =
-        groundtruthInEstimateFrame(readTumTrajectory(groundtruth_arg.getValue()), run.keyframes);
+    try {
+      run.keyframes =
+          groundtruthInEstimateFrame(readTumTrajectory(groundtruth_arg.getValue()), run.keyframes);
+    } catch (const EvaluationError& e) {
+      throw InputError(groundtruth_arg.getValue(),
+                       std::string("does not fit the run's keyframes: ") + e.what());
+    }
     std::fprintf(stderr, "groundtruth poses for %zu of %zu keyframes from %s\n",
                  run.keyframes.size(), n, groundtruth_arg.getValue().c_str());
   }

@@ -4,6 +4,7 @@
 #include <mrpt/math/CQuaternion.h>
 
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <sstream>
 #include <string>
@@ -95,7 +96,14 @@ int renderMain(int argc, char** argv) {
     if (bg[k] < 0 || bg[k] > 255) throw UsageError("--background: values 0..255");
     o.background[k] = static_cast<std::uint8_t>(bg[k]);
   }
-  if (up_arg.isSet()) o.up = parseTriple(up_arg.getValue(), "--up");
+  if (up_arg.isSet()) {
+    o.up = parseTriple(up_arg.getValue(), "--up");
+    const auto& u = *o.up;
+    if (!(u[0] * u[0] + u[1] * u[1] + u[2] * u[2] > 1e-12) || !std::isfinite(u[0] + u[1] + u[2]))
+      throw UsageError("--up: expected a non-zero, finite direction, got '" + up_arg.getValue() +
+                       "'");
+  }
+  if (out_arg.getValue().empty()) throw UsageError("-o/--output: empty file name");
   ViewSpec view;
   try {  // bad values on the command line: usage errors, before any work
     view = ViewSpec::parse(view_arg.getValue());

@@ -80,6 +80,7 @@ int runMain(int argc, char** argv) {
 
   RunOptions o;
   o.input = input.getValue();
+  if (out.getValue().empty()) throw UsageError("-o/--out: empty folder name");
   o.out_dir = out.getValue();
   o.config_path = config.getValue();
   o.camera_config = camera.getValue();

@@ -108,7 +108,8 @@ std::string cameraConfigForSequence(const std::string& sequence_path) {
   if (!std::regex_search(name, m, re)) {
     throw InputError(sequence_path,
                      "cannot tell the camera from the name (no freiburg1/2/3); "
-                     "pass --config CAMERA.yaml");
+                     "give a camera YAML (see configs/tum_fr1.yaml): run and export --camera "
+                     "CAMERA.yaml, convert -c CAMERA.yaml");
   }
   return configDir() + "/tum_fr" + m[2].str() + ".yaml";
 }

@@ -51,6 +51,8 @@ void validateSlamConfig(const SlamConfig& c, const std::string& path) {
     throw InputError(path,
                      "dynamic: mask_margin_px, max_flow_points, moved_space_frames >= 0, "
                      "0 <= carry_frames <= 255, 0 < max_map_inliers_flagged <= 1 required");
+  if (d.mask_margin_px > 100 || d.max_flow_points > 100000)
+    throw InputError(path, "dynamic: mask_margin_px <= 100, max_flow_points <= 100000 required");
   if (d.detector_interval < 1)
     throw InputError(path, "dynamic.detector: interval_frames >= 1 required");
   if (c.localisation.detector_interval_frames < 0)

@@ -146,6 +146,15 @@ TEST(Camera, PicksConfigFromSequenceName) {
   EXPECT_NE(cameraConfigForSequence("x/rgbd_dataset_freiburg1_rpy/").find("tum_fr1.yaml"),
             std::string::npos);
   EXPECT_THROW(cameraConfigForSequence("/data/my_sequence"), InputError);
+  // The advice names the option each command really has (it said --config).
+  std::string advice;
+  try {
+    cameraConfigForSequence("/data/x");
+  } catch (const InputError& e) {
+    advice = e.what();
+  }
+  EXPECT_NE(advice.find("--camera CAMERA.yaml"), std::string::npos) << advice;
+  EXPECT_NE(advice.find("convert -c CAMERA.yaml"), std::string::npos) << advice;
 }
 
 TEST(Camera, BadConfigsAreErrorsNamingTheFile) {

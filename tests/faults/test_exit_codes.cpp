@@ -35,6 +35,14 @@ TEST(ExitCodes, RunMaxFramesZeroAndNegative) {
   EXPECT_FALSE(fs::exists(d / "out"));
 }
 
+// An empty output name ran every frame and then failed to move the result
+// into place (found by fuzzing).
+TEST(ExitCodes, RunEmptyOutputName) {
+  TempDir d;
+  const MiniTum tum = makeMiniTum(d.path(), 2);
+  expectUsageError({"run", tum.dir, "-o", ""}, "-o/--out");
+}
+
 TEST(ExitCodes, RenderRangeErrors) {
   TempDir d;
   const std::string ply = writeSmallPly(d);
@@ -43,6 +51,11 @@ TEST(ExitCodes, RenderRangeErrors) {
   expectUsageError({"render", ply, "-o", d / "a.png", "--background", "300,0,0"}, "--background");
   expectUsageError({"render", ply, "-o", d / "a.png", "--up", "1,2"}, "--up");
   expectUsageError({"render", ply, "-o", d / "a.png", "--view", "sideways"}, "sideways");
+  // Accepted before (exit 1, or exit 0 with a NaN camera and a blank image).
+  expectUsageError({"render", ply, "-o", d / "a.png", "--up", "0,0,0"}, "--up");
+  expectUsageError({"render", ply, "-o", d / "a.png", "--view", "orbit-nan"}, "orbit-nan");
+  expectUsageError({"render", ply, "-o", d / "a.png", "--view", "orbit-inf"}, "orbit-inf");
+  expectUsageError({"render", ply, "-o", ""}, "-o/--output");
   EXPECT_EQ(entriesIn(d.path()), std::vector<std::string>{"map.ply"});
 }
 

@@ -2,6 +2,8 @@
 // cut JPEG as a grey-padded frame without a word. Every reader rejects them
 // with one error line naming the file: `run` on a TUM folder and on a
 // rawlog's external images, `convert`, `vocab train`. Nothing is written.
+#include <zlib.h>
+
 #include <filesystem>
 
 #include "fault_support.h"
@@ -24,6 +26,24 @@ TEST(TruncatedImages, RunRejectsTruncatedDepthPng) {
   truncateFile(tum.depth[2], 0.5);
   const SplitCommandResult r = runDynslamSplit({"run", tum.dir, "-o", d / "out", "--mode", "off"});
   expectHandledFault(r, 1, tum.depth[2]);
+  EXPECT_FALSE(fs::exists(d / "out/trajectory.txt"));
+}
+
+// A PNG whose header claims 100000 x 100000 pixels: OpenCV's size limit
+// threw its own assertion, naming no file (found by fuzzing).
+TEST(TruncatedImages, RunRejectsAPngClaimingAHugeSize) {
+  TempDir d;
+  const MiniTum tum = makeMiniTum(d.path(), 6);
+  std::string png = readText(tum.depth[2]);
+  ASSERT_GT(png.size(), 33u);
+  for (int k = 0; k < 4; ++k) png[16 + k] = png[20 + k] = "\x00\x01\x86\xa0"[k];  // 100000
+  const uLong crc = crc32(0, reinterpret_cast<const Bytef*>(png.data() + 12), 17);
+  for (int k = 0; k < 4; ++k) png[29 + k] = static_cast<char>((crc >> (24 - 8 * k)) & 0xff);
+  writeText(tum.depth[2], png);
+  const SplitCommandResult r = runDynslamSplit({"run", tum.dir, "-o", d / "out", "--mode", "off"});
+  expectHandledFault(r, 1, tum.depth[2]);
+  // OpenCV's size limit, not a bad checksum, stopped it.
+  EXPECT_NE(r.err.find("CV_IO_MAX_IMAGE_PIXELS"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(d / "out/trajectory.txt"));
 }
 

@@ -268,6 +268,21 @@ TEST(MapFiles, PlyRoundTripThroughPcl) {
   EXPECT_EQ(test::listFiles(dir.path()), std::vector<std::string>{"map.ply"});
 }
 
+// An empty map is said to be empty (PCL failed it as if the disk were full),
+// and nothing is written.
+TEST(MapFiles, EmptyPlyIsRefusedByName) {
+  TempDir dir;
+  MapData map = planeMap();
+  map.points.clear();
+  try {
+    writeMapFile(dir / "map.ply", map);
+    ADD_FAILURE() << "an empty map was written";
+  } catch (const std::exception& e) {
+    EXPECT_NE(std::string(e.what()).find("no points"), std::string::npos) << e.what();
+  }
+  EXPECT_TRUE(test::listFiles(dir.path()).empty());
+}
+
 TEST(MapFiles, GlbRoundTripThroughAssimp) {
   TempDir dir;
   const MapData map = planeMap();
