@@ -65,13 +65,32 @@ ConfigSection ConfigSection::sub(const std::string& key) {
   return ConfigSection(node_[key], file_, section_.empty() ? key : section_ + "." + key);
 }
 
+namespace {
+/// The first line of `path` that starts (after indentation) with "key:"; 0
+/// if none does.
+std::size_t lineOfKey(const std::string& path, const std::string& key) {
+  std::ifstream in(path);
+  std::size_t n = 0;
+  for (std::string line; std::getline(in, line);) {
+    ++n;
+    const auto b = line.find_first_not_of(' ');
+    if (b != std::string::npos && line.compare(b, key.size(), key) == 0 &&
+        line.find_first_not_of(' ', b + key.size()) == line.find(':', b + key.size()))
+      return n;
+  }
+  return 0;
+}
+}  // namespace
+
 void ConfigSection::rejectUnknownKeys() const {
   if (node_.isNullNode() || !node_.isMap()) return;
   for (const auto& [k, v] : node_.asMap()) {
     const std::string key = k.as<std::string>();
-    if (!known_.count(key))
-      throw InputError(
-          file_, "unknown parameter '" + (section_.empty() ? key : section_ + "." + key) + "'");
+    if (known_.count(key)) continue;
+    const std::string message =
+        "unknown parameter '" + (section_.empty() ? key : section_ + "." + key) + "'";
+    if (const std::size_t line = lineOfKey(file_, key)) throw InputError(file_, line, message);
+    throw InputError(file_, message);
   }
 }
 
@@ -127,14 +146,25 @@ std::string prepareYamlText(const std::string& path, const std::string& text) {
   constexpr int kMaxNesting = 64;
   int depth = 0;
   for (std::size_t i = 0; i < lines.size(); ++i) {
+    const std::string& line = lines[i];
+    const auto text_begin = line.find_first_not_of(" \t");
+    if (line.find('\t') < text_begin && text_begin != std::string::npos)
+      throw InputError(path, i + 1, "a tab in the indentation (YAML indents with spaces)");
     char quote = 0;
-    for (char c : lines[i]) {
+    char before = ' ';
+    for (char c : line) {
+      const bool starts_token = before == ' ' || before == '[' || before == '{' || before == ',';
+      before = c;
       if (quote) {
         if (c == quote) quote = 0;
       } else if (c == '"' || c == '\'') {
         quote = c;
       } else if (c == '#') {
         break;
+      } else if ((c == '&' || c == '*') && starts_token) {
+        throw InputError(path, i + 1,
+                         "YAML anchors and aliases (& and *) are not supported: write the values "
+                         "out");
       } else if (c == '[' || c == '{') {
         if (++depth > kMaxNesting)
           throw InputError(

@@ -65,6 +65,18 @@ TEST_F(BadYaml, DeeplyNestedLists) { expectRejected(std::string(30000, '[') + "\
 TEST_F(BadYaml, DeeplyNestedCameraMaps) {
   expectRejected("camera: " + std::string(30000, '{') + "\n", true, ":1:");
 }
+// MRPT's reader gave "Assert condition failed: nVal.has_value()" for these,
+// with no line; an unknown key had no line either.
+TEST_F(BadYaml, TabInIndentation) {
+  expectRejected("camera:\n\twidth: 640\n", true, ":2:");
+  expectRejected("orb:\n \tn_features: 900\n", false, ":2:");
+}
+TEST_F(BadYaml, AnchorsAndAliases) {
+  expectRejected("system: &a\n  bf: 40\norb: *a\n", false, ":1:");
+}
+TEST_F(BadYaml, UnknownKeyNamesItsLine) {
+  expectRejected("orb:\n  n_features: 900\n  nfeatures: 3\n", false, ":3:");
+}
 // MRPT's own "empty() called on a scalar node" named no file.
 TEST_F(BadYaml, SectionGivenAsAValue) { expectRejected("orb: 5\n"); }
 
