@@ -4,8 +4,10 @@
 #include <mrpt/math/CQuaternion.h>
 
 #include <array>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <sstream>
 #include <string>
 
@@ -103,7 +105,13 @@ int renderMain(int argc, char** argv) {
       throw UsageError("--up: expected a non-zero, finite direction, got '" + up_arg.getValue() +
                        "'");
   }
-  if (out_arg.getValue().empty()) throw UsageError("-o/--output: empty file name");
+  {
+    std::string ext = std::filesystem::path(out_arg.getValue()).extension().string();
+    for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    if (ext != ".png")  // it wrote PNG data under any name (x.jpg)
+      throw UsageError("-o/--output: the snapshot is a PNG, the name must end in .png, got '" +
+                       out_arg.getValue() + "'");
+  }
   ViewSpec view;
   try {  // bad values on the command line: usage errors, before any work
     view = ViewSpec::parse(view_arg.getValue());

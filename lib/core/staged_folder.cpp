@@ -47,8 +47,11 @@ void removeStaleStaging(const fs::path& final_dir) {
 StagedFolder::StagedFolder(std::string final_dir, const std::vector<std::string>& markers) {
   fs::path f(final_dir);
   if (f.filename().empty()) f = f.parent_path();  // "out/" -> "out"
-  final_ = f.string();
   std::error_code ec;
+  // A link to an earlier output: that output is replaced and the link kept
+  // (replacing the link would leave the old run where the link pointed).
+  if (fs::is_symlink(f, ec) && fs::is_directory(f, ec)) f = fs::canonical(f, ec);
+  final_ = f.string();
   if (fs::exists(f, ec)) {
     if (!fs::is_directory(f, ec)) throw InputError(final_, "exists and is not a folder");
     bool empty = fs::is_empty(f, ec), ours = false;

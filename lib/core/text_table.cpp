@@ -4,6 +4,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
+#include <vector>
 
 #include "core/atomic_file.h"
 #include "core/errors.h"
@@ -41,10 +42,18 @@ void forEachDataLine(const std::string& path, const std::function<void(const Tex
   if (isDirectory(path)) throw InputError(path, "is a directory, expected a text file");
   std::ifstream f(path);
   if (!f) throw InputError(path, "cannot open (missing or unreadable)");
-  std::string line;
+  // Lines of these tables are short; a cap keeps a binary file or a device
+  // (/dev/zero) from growing one line without end.
+  constexpr std::size_t kMaxLine = 1 << 16;
+  std::vector<char> buf(kMaxLine + 1);
   std::size_t n = 0;
-  while (std::getline(f, line)) {
+  while (f.getline(buf.data(), static_cast<std::streamsize>(buf.size())) || f.gcount() > 0) {
     ++n;
+    if (f.fail() && !f.eof())
+      throw InputError(
+          path, n,
+          "line longer than " + std::to_string(kMaxLine) + " characters: not a text table");
+    std::string line(buf.data());
     if (!line.empty() && line.back() == '\r') line.pop_back();
     const auto first = line.find_first_not_of(" \t");
     if (first == std::string::npos || line[first] == '#') continue;

@@ -19,6 +19,9 @@ Trajectory readTumTrajectory(const std::string& path) {
     const std::vector<double> v = line.numbers(8, 8);
     for (double x : v)
       if (!std::isfinite(x)) line.fail("non-finite value");
+    // Squared in the error statistics: beyond this they overflow to inf.
+    for (int k = 1; k <= 3; ++k)
+      if (std::abs(v[k]) > 1e6) line.fail("position beyond 1000 km: " + line.field(k));
     const double qn = std::sqrt(v[4] * v[4] + v[5] * v[5] + v[6] * v[6] + v[7] * v[7]);
     if (!(std::abs(qn - 1.0) <= 0.1))
       line.fail("quaternion qx qy qz qw has norm " + std::to_string(qn) + " (expected 1)");

@@ -127,6 +127,12 @@ TEST(Trajectory, BadInputNamesFileAndLine) {
   EXPECT_EQ(errorOf("2 0 0 0 0 0 0 1\n1 0 0 0 0 0 0 1\n"),
             "gt.txt:2: timestamp 1 is not after the previous one");
   EXPECT_EQ(errorOf("1 0 0 nan 0 0 0 1\n"), "gt.txt:1: non-finite value");
+  // Found by fuzzing: 1e155 squared overflowed the ATE to "n/a" with exit 0,
+  // and an endless line (/dev/zero) grew without bound.
+  EXPECT_EQ(errorOf("1 0 1e155 0 0 0 0 1\n"), "gt.txt:1: position beyond 1000 km: 1e155");
+  EXPECT_EQ(errorOf("1 0 0 0 0 0 0 1\n" + std::string(100000, '0') + "\n"),
+            "gt.txt:2: line longer than 65536 characters: not a text table");
+  EXPECT_EQ(errorOf("1 0 0 0 0 0 0 1\n2 0 0 0 0 0 0 1"), "no error") << "no final newline";
   EXPECT_THROW(readTumTrajectory("/nonexistent/gt.txt"), InputError);
 }
 

@@ -47,6 +47,25 @@ TEST(StagedFolder, CommitReplacesAnEarlierRunWhole) {
   EXPECT_EQ(entries(d.path()), std::vector<std::string>{"run"});  // no staging, no old copy
 }
 
+// An output path that is a link to an earlier run: the run it points to is
+// replaced and the link stays (the link itself was replaced by a new folder,
+// found by fuzzing).
+TEST(StagedFolder, ALinkToAnEarlierRunReplacesItsTarget) {
+  TempDir d;
+  const std::string real = d / "real", link = d / "link";
+  writeText(real + "/report.json", "old");
+  fs::create_directory_symlink(real, link);
+  {
+    StagedFolder s(link, {"report.json"});
+    writeText(s.path() + "/report.json", "new");
+    s.commit();
+  }
+  EXPECT_TRUE(fs::is_symlink(link));
+  EXPECT_EQ(readText(link + "/report.json"), "new");
+  EXPECT_EQ(readText(real + "/report.json"), "new");
+  EXPECT_EQ(entries(d.path()), (std::vector<std::string>{"link", "real"}));
+}
+
 TEST(StagedFolder, WithoutCommitNothingChangesAndNothingIsLeft) {
   TempDir d;
   const std::string out = d / "run";

@@ -56,6 +56,7 @@ TEST(ExitCodes, RenderRangeErrors) {
   expectUsageError({"render", ply, "-o", d / "a.png", "--view", "orbit-nan"}, "orbit-nan");
   expectUsageError({"render", ply, "-o", d / "a.png", "--view", "orbit-inf"}, "orbit-inf");
   expectUsageError({"render", ply, "-o", ""}, "-o/--output");
+  expectUsageError({"render", ply, "-o", d / "a.jpg"}, "a.jpg");
   EXPECT_EQ(entriesIn(d.path()), std::vector<std::string>{"map.ply"});
 }
 

@@ -194,7 +194,7 @@ TEST(TumFolder, GroundtruthIsOptional) {
 TEST(TumFolder, CameraFromFolderNameOrAsksForConfig) {
   TempDir d;
   const FakeSequence s = makeFakeSequence(d.path(), 1);
-  expectInputError([&] { TumFolderSource(s.dir, ""); }, {s.dir, "--config"});
+  expectInputError([&] { TumFolderSource(s.dir, ""); }, {s.dir, "--camera"});
   // A freiburg1 folder gets tum_fr1.yaml (640x480), which these 64x48 images
   // then contradict on load.
   const FakeSequence fr1 = makeFakeSequence(d.path(), 1, true, "rgbd_dataset_freiburg1_fake");
