@@ -6,6 +6,7 @@
 #include <cstdio>
 
 #include "cli/commands.h"
+#include "core/interrupt.h"
 #include "core/progress.h"
 #include "core/timing.h"
 #include "synth/synthetic_sequence.h"
@@ -56,8 +57,11 @@ int synthMain(int argc, char** argv) {
   const auto t0 = SteadyClock::now();
   synth::SyntheticSequence seq(p);
   ProgressLine progress("rendering, frame", static_cast<std::size_t>(seq.size()));
-  const int n = synth::writeTumSequence(
-      seq, out_arg.getValue(), [&](int i, int) { progress.update(static_cast<std::size_t>(i)); });
+  InterruptGuard interrupt;  // Ctrl-C: stop after this frame, remove the staging folder, exit 130
+  const int n = synth::writeTumSequence(seq, out_arg.getValue(), [&](int i, int) {
+    progress.update(static_cast<std::size_t>(i));
+    InterruptGuard::throwIfInterrupted();
+  });
   progress.finish();
   const double s = secondsSince(t0);
   std::printf("%s: %d frames (%d x %d), %.1f s\n", out_arg.getValue().c_str(), n,
