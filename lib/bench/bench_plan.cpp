@@ -1,8 +1,11 @@
 #include "bench/bench_plan.h"
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <stdexcept>
 
@@ -147,6 +150,34 @@ void writeBenchPlan(const BenchPlan& plan) {
     writeFileAtomically(spreadConfigPath(o, int(k) + 1),
                         [&](std::ostream& os) { os << spread_yaml[k]; });
   writeFileAtomically(o.out_dir + "/" + kBenchPlanFile, [&](std::ostream& os) { os << text; });
+}
+
+void writeBenchJobs(const BenchPlan& plan, const std::string& jobs_file) {
+  const std::string script = benchJobScript(plan);
+  AtomicPath jobs(jobs_file);
+  auto writeJobs = [&] {
+    std::ofstream f(jobs.tmp());
+    if (!f) throw std::runtime_error(jobs_file + ": cannot open for writing");
+    f << script;
+    errno = 0;
+    f.close();
+    if (!f)
+      throw std::runtime_error(jobs_file + ": write failed (" +
+                               (errno ? std::strerror(errno) : "disk full?") + ")");
+  };
+  auto folder = [](fs::path p) {
+    p = fs::absolute(p.empty() ? "." : p).lexically_normal();
+    if (p.filename().empty()) p = p.parent_path();  // a trailing '/'
+    std::error_code ec;
+    const fs::path real = fs::weakly_canonical(p, ec);
+    return ec ? p : real;
+  };
+  const bool in_out_dir = folder(fs::path(jobs_file).parent_path()) == folder(plan.options.out_dir);
+  const bool written_first = !in_out_dir || isDirectory(plan.options.out_dir);
+  if (written_first) writeJobs();
+  writeBenchPlan(plan);
+  if (!written_first) writeJobs();
+  jobs.commit();
 }
 
 BenchPlan readBenchPlan(const std::string& out_dir, const std::string& dynslam_binary) {

@@ -84,6 +84,12 @@ constexpr const char* kBenchPlanFile = "bench_plan.yaml";
 /// folder is created if missing), and with spread each run's config
 /// (spreadConfigPath: the effective config of `config`, budgets scaled).
 void writeBenchPlan(const BenchPlan& plan);
+/// `--emit-jobs`: the plan (writeBenchPlan) and benchJobScript in
+/// `jobs_file`, both or neither: the job file is written under a temporary
+/// name first (unless its folder is the output folder, which the plan
+/// creates) and renamed into place once the plan is written. Throws naming
+/// the file that cannot be written.
+void writeBenchJobs(const BenchPlan& plan, const std::string& jobs_file);
 /// The plan of the benchmark whose output folder is `out_dir` (its
 /// kBenchPlanFile), with the runs laid out under `out_dir`. Throws InputError
 /// naming the file when it is missing or malformed, or names a sequence that

@@ -12,6 +12,7 @@
 #include "core/atomic_file.h"
 #include "core/checksum.h"
 #include "core/errors.h"
+#include "core/interrupt.h"
 #include "core/run_layout.h"
 #include "rawlog/sequence_source.h"
 
@@ -69,6 +70,13 @@ RunRecord readRunRecord(const BenchPlan& plan, const PlannedRun& run) {
                                 run.logPath() + ")");
   const RunLayout layout{r.dir};
   const std::string report = readTextFile(layout.report());
+  // A run folder holds a whole run or is an error, as for a missing file.
+  if (!isWellFormedJson(report))
+    throw InputError(layout.report(), "not valid JSON (truncated or damaged); run it again");
+  if (jsonLiteralAt(report, "interrupted") == "true")
+    throw InputError(layout.report(),
+                     "the run was interrupted (\"interrupted\": true): it holds only part of "
+                     "the sequence; run it again");
   r.wall_s = jsonNumberAt(report, "wall_time_s");
   r.peak_rss_mb = jsonNumberAt(report, "peak_rss_mb");
   r.fps = jsonNumberAt(report, "fps");
@@ -111,15 +119,21 @@ BenchResults collectBenchResults(const BenchPlan& plan) {
 
 BenchRunner::BenchRunner(BenchOptions options) : plan_(makeBenchPlan(options)) {}
 
-RunRecord BenchRunner::runOne(const PlannedRun& run) const {
+RunRecord BenchRunner::runOne(const PlannedRun& run, const std::function<int()>& interrupt,
+                              int& stopped_by) const {
   // The run replaces an earlier bench's run folder whole (or leaves it when
   // it fails: then the record says so and nothing of it is read).
   try {
-    const ChildResult child = runChildProcess(run.argv, run.logPath());
+    const ChildResult child = runChildProcess(run.argv, run.logPath(), interrupt);
     if (!child.ok()) {
       RunRecord r = emptyRecord(plan_, run);
       const std::string tail = lastLines(run.logPath(), 1);
-      r.error = "dynslam run: " + child.describe() + (tail.empty() ? "" : ": " + tail);
+      stopped_by = child.interruptedBy();
+      if (stopped_by)  // its last line says where it stopped, not why
+        r.error = "dynslam run: " + std::string(Interrupted(stopped_by).what()) + " (" +
+                  child.describe() + ")";
+      else
+        r.error = "dynslam run: " + child.describe() + (tail.empty() ? "" : ": " + tail);
       return r;
     }
     return readRunRecord(plan_, run);
@@ -141,6 +155,13 @@ BenchResults BenchRunner::runAll(const std::function<void(const std::string&)>& 
   const std::size_t total = plan_.runs.size();
   res.runs.resize(total);
   std::atomic<std::size_t> next{0};
+  // The first run that stopped for a signal (its own Ctrl-C) stops the bench
+  // as the bench's own signal does.
+  std::atomic<int> run_stopped_by{0};
+  auto interrupt = [&] {
+    const int s = InterruptGuard::signalReceived();
+    return s ? s : run_stopped_by.load();
+  };
   std::mutex progress_mutex;
   std::size_t started = 0;
   auto say = [&](const std::string& line) {
@@ -154,6 +175,11 @@ BenchResults BenchRunner::runAll(const std::function<void(const std::string&)>& 
   auto worker = [&] {
     for (std::size_t i; (i = next++) < total;) {
       const PlannedRun& run = plan_.runs[i];
+      if (interrupt()) {
+        res.runs[i] = emptyRecord(plan_, run);
+        res.runs[i].error = "not run: the benchmark was interrupted";
+        continue;
+      }
       {
         std::lock_guard<std::mutex> lock(progress_mutex);
         ++started;
@@ -161,7 +187,10 @@ BenchResults BenchRunner::runAll(const std::function<void(const std::string&)>& 
           progress("[" + std::to_string(started) + "/" + std::to_string(total) + "] " + name(run) +
                    " ...");
       }
-      res.runs[i] = runOne(run);
+      int stopped_by = 0;
+      res.runs[i] = runOne(run, interrupt, stopped_by);
+      int none = 0;
+      if (stopped_by) run_stopped_by.compare_exchange_strong(none, stopped_by);
       say(plan_.options.jobs > 1 ? name(run) + ":\n" + describeRecord(res.runs[i])
                                  : describeRecord(res.runs[i]));
     }
@@ -174,6 +203,7 @@ BenchResults BenchRunner::runAll(const std::function<void(const std::string&)>& 
     for (std::size_t t = 0; t < threads; ++t) pool.emplace_back(worker);
     for (auto& t : pool) t.join();
   }
+  res.interrupted_by = interrupt();
   return res;
 }
 

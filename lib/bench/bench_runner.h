@@ -44,12 +44,16 @@ struct BenchResults {
   BenchOptions options;
   std::vector<SequenceInfo> sequences;
   std::vector<RunRecord> runs;  ///< sequence-major, then mode, then run
+  /// SIGINT or SIGTERM when runAll stopped early: the bench got the signal
+  /// (InterruptGuard) or a run stopped for one; 0 when every run was made.
+  int interrupted_by = 0;
   std::size_t failures() const;
 };
 
 /// The record of a finished run, read from its folder (report.json,
 /// frame_times.txt, and trajectory.txt evaluated against the groundtruth).
-/// Throws InputError naming the missing folder or file.
+/// Throws InputError naming the missing folder or file, or a report.json
+/// that is not valid JSON or says the run was interrupted (a partial run).
 RunRecord readRunRecord(const BenchPlan& plan, const PlannedRun& run);
 
 /// `--collect`: the records of every planned run, read from their folders.
@@ -63,11 +67,18 @@ class BenchRunner {
   const BenchPlan& plan() const { return plan_; }
   /// Runs everything, options.jobs runs at a time; `progress` gets one line
   /// per event (may be empty; called from one thread at a time). Run failures
-  /// are recorded, not thrown; the records keep the plan's order.
+  /// are recorded, not thrown; the records keep the plan's order. A signal
+  /// (under an InterruptGuard) or a run that stops for one (exit code 130 or
+  /// 143: its own Ctrl-C) interrupts the whole bench: no run starts any more,
+  /// the running ones get the signal and are waited for, and the results say
+  /// interrupted_by (the runs not made, or interrupted, are not ok).
   BenchResults runAll(const std::function<void(const std::string&)>& progress = {}) const;
 
  private:
-  RunRecord runOne(const PlannedRun& run) const;
+  /// `interrupt` as for runChildProcess; `stopped_by` is set to the signal
+  /// when the run stopped for one.
+  RunRecord runOne(const PlannedRun& run, const std::function<int()>& interrupt,
+                   int& stopped_by) const;
   BenchPlan plan_;
 };
 

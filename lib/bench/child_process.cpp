@@ -5,10 +5,16 @@
 #include <sys/wait.h>
 
 #include <cerrno>
+#include <chrono>
+#include <csignal>
 #include <cstring>
 #include <deque>
 #include <fstream>
+#include <optional>
 #include <stdexcept>
+#include <thread>
+
+#include "core/interrupt.h"
 
 extern char** environ;
 
@@ -20,7 +26,14 @@ std::string ChildResult::describe() const {
   return "exit code " + std::to_string(exit_code);
 }
 
-ChildResult runChildProcess(const std::vector<std::string>& argv, const std::string& log_path) {
+int ChildResult::interruptedBy() const {
+  for (int s : {SIGINT, SIGTERM})
+    if (signal == s || exit_code == 128 + s) return s;
+  return 0;
+}
+
+ChildResult runChildProcess(const std::vector<std::string>& argv, const std::string& log_path,
+                            const std::function<int()>& interrupt) {
   if (argv.empty()) throw std::runtime_error("runChildProcess: empty command");
   std::vector<char*> args;
   for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
@@ -40,9 +53,27 @@ ChildResult runChildProcess(const std::vector<std::string>& argv, const std::str
 
   int status = 0;
   pid_t waited;
-  do {
-    waited = waitpid(pid, &status, 0);
-  } while (waited < 0 && errno == EINTR);
+  if (!interrupt) {
+    do {
+      waited = waitpid(pid, &status, 0);
+    } while (waited < 0 && errno == EINTR);
+  } else {
+    using Clock = std::chrono::steady_clock;
+    constexpr auto kPoll = std::chrono::milliseconds(20);
+    constexpr auto kForwardAfter = std::chrono::milliseconds(200);
+    std::optional<Clock::time_point> interrupted_at;
+    bool forwarded = false;
+    while ((waited = waitpid(pid, &status, WNOHANG)) == 0 || (waited < 0 && errno == EINTR)) {
+      if (const int sig = forwarded ? 0 : interrupt()) {
+        if (!interrupted_at) interrupted_at = Clock::now();
+        if (Clock::now() - *interrupted_at >= kForwardAfter) {
+          forwardInterrupt(pid, sig);
+          forwarded = true;
+        }
+      }
+      std::this_thread::sleep_for(kPoll);
+    }
+  }
   if (waited < 0) throw std::runtime_error("waitpid on " + argv[0] + ": " + std::strerror(errno));
 
   ChildResult r;

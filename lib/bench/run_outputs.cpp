@@ -36,8 +36,17 @@ class JsonPathScanner {
   JsonPathScanner(const std::string& text, std::vector<std::string> path)
       : s_(text), path_(std::move(path)) {}
 
-  /// Scans the document; true and `out` set when the path holds a number.
-  bool find(double& out) { return value(0, out); }
+  /// Scans the document; true and `out` set to its text when the path holds
+  /// a literal (number, true, false, null).
+  bool find(std::string& out) { return value(0, out); }
+  /// Scans the whole document (the path is not followed); true when it is
+  /// one value with valid literals and nothing after it.
+  bool wellFormed() {
+    std::string unused;
+    value(kOffPath, unused);
+    while (i_ < s_.size() && std::isspace(static_cast<unsigned char>(s_[i_]))) ++i_;
+    return i_ == s_.size();
+  }
 
  private:
   static constexpr std::size_t kOffPath = static_cast<std::size_t>(-1);
@@ -63,8 +72,8 @@ class JsonPathScanner {
     return out;
   }
   // Value at nesting `depth` of the path (kOffPath: just skip it). True when
-  // it completes the path with a number.
-  bool value(std::size_t depth, double& out) {
+  // it completes the path with a literal.
+  bool value(std::size_t depth, std::string& out) {
     const char c = peek();
     if (c == '{') return members('}', true, depth, out);
     if (c == '[') return members(']', false, depth, out);
@@ -72,14 +81,25 @@ class JsonPathScanner {
       string();
       return false;
     }
+    literal();
+    return false;
+  }
+  // A number, true, false or null (anything else is Malformed).
+  std::string literal() {
+    const std::size_t begin = i_;
     while (i_ < s_.size() && s_[i_] != ',' && s_[i_] != '}' && s_[i_] != ']' &&
            !std::isspace(static_cast<unsigned char>(s_[i_])))
       ++i_;
-    return false;
+    const std::string text = s_.substr(begin, i_ - begin);
+    if (text == "true" || text == "false" || text == "null") return text;
+    char* end = nullptr;
+    std::strtod(text.c_str(), &end);
+    if (text.empty() || *end != '\0') throw Malformed{};
+    return text;
   }
   // The members of an object (keyed) or the elements of an array, through
   // the closing bracket.
-  bool members(char close, bool keyed, std::size_t depth, double& out) {
+  bool members(char close, bool keyed, std::size_t depth, std::string& out) {
     ++i_;
     if (peek() == close) return ++i_, false;
     for (;;) {
@@ -88,7 +108,7 @@ class JsonPathScanner {
         const std::string key = string();
         expect(':');
         const bool on = depth != kOffPath && depth < path_.size() && key == path_[depth];
-        if (on && depth + 1 == path_.size()) return number(out);
+        if (on && depth + 1 == path_.size()) return found(out);
         if (on) next = depth + 1;
       }
       if (value(next, out)) return true;
@@ -98,13 +118,12 @@ class JsonPathScanner {
     expect(close);
     return false;
   }
-  bool number(double& out) {
-    peek();
-    const char* begin = s_.c_str() + i_;
-    char* end = nullptr;
-    const double v = std::strtod(begin, &end);
-    if (end == begin) return false;  // null, a string, an object...
-    out = v;
+  // The value at the end of the path: a literal, or false (a string, an
+  // object or an array).
+  bool found(std::string& out) {
+    const char c = peek();
+    if (c == '{' || c == '[' || c == '"') return false;
+    out = literal();
     return true;
   }
 
@@ -115,18 +134,33 @@ class JsonPathScanner {
 
 }  // namespace
 
-double jsonNumberAt(const std::string& json_text, const std::string& path) {
+std::string jsonLiteralAt(const std::string& json_text, const std::string& path) {
   std::vector<std::string> parts;
   std::stringstream ss(path);
   for (std::string part; std::getline(ss, part, '.');) parts.push_back(part);
-  if (parts.empty()) return std::nan("");
-  double v = std::nan("");
+  if (parts.empty()) return "";
+  std::string literal;
   try {
-    if (!JsonPathScanner(json_text, parts).find(v)) return std::nan("");
+    if (!JsonPathScanner(json_text, parts).find(literal)) return "";
   } catch (const Malformed&) {
-    return std::nan("");
+    return "";
   }
-  return v;
+  return literal;
+}
+
+double jsonNumberAt(const std::string& json_text, const std::string& path) {
+  const std::string literal = jsonLiteralAt(json_text, path);
+  char* end = nullptr;
+  const double v = std::strtod(literal.c_str(), &end);
+  return end == literal.c_str() ? std::nan("") : v;  // null, true, false, absent
+}
+
+bool isWellFormedJson(const std::string& json_text) {
+  try {
+    return JsonPathScanner(json_text, {}).wellFormed();
+  } catch (const Malformed&) {
+    return false;
+  }
 }
 
 std::string readTextFile(const std::string& path) {

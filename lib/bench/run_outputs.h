@@ -24,6 +24,13 @@ FrameTimes readFrameTimes(const std::string& path);
 /// the same key. NaN when the path is absent, its value is not a number
 /// (null, a string, an object) or the text is not well-formed JSON.
 double jsonNumberAt(const std::string& json_text, const std::string& path);
+/// The literal at a key path (as for jsonNumberAt) as written ("true",
+/// "null", "12.5"); "" when the path is absent, holds a string, object or
+/// array, or the text is malformed before it (check isWellFormedJson).
+std::string jsonLiteralAt(const std::string& json_text, const std::string& path);
+/// True when the text is one JSON value and nothing else: false for a
+/// truncated or damaged report.json (whose numbers would silently be NaN).
+bool isWellFormedJson(const std::string& json_text);
 
 /// The whole file as a string; throws InputError if it cannot be read.
 std::string readTextFile(const std::string& path);

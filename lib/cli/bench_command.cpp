@@ -11,14 +11,15 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "bench/bench_plots.h"
 #include "bench/bench_report.h"
 #include "bench/bench_runner.h"
 #include "cli/commands.h"
-#include "core/atomic_file.h"
 #include "core/errors.h"
+#include "core/interrupt.h"
 
 namespace dynslam::cli {
 namespace {
@@ -30,7 +31,8 @@ constexpr const char* kDescription =
     "per sequence and mode the median and min-max over runs of ATE RMSE and SD, RPE (1 s) "
     "translation and rotation RMSE, coverage, per-frame time (mean, median, p95), fps and peak "
     "memory, plus the improvement over mode off. Sequences without groundtruth get timing only. "
-    "Exit code 1 if any run failed (the reports list the failures). --jobs N runs N at a time; "
+    "Exit code 1 if any run failed (the reports list the failures); Ctrl-C stops the runs and "
+    "exits 130 without a report (the finished run folders stay). --jobs N runs N at a time; "
     "--emit-jobs FILE only writes one shell command per run to FILE (for GNU parallel or a "
     "Slurm array) and the plan to OUT_DIR/bench_plan.yaml, and --collect OUT_DIR later builds "
     "the same reports from the finished run folders.";
@@ -134,16 +136,29 @@ int benchMain(int argc, char** argv) {
       throw UsageError(e.what());
     }
     out_dir = o.out_dir;
-    writeBenchPlan(runner->plan());
     if (emit_arg.isSet()) {
-      const std::string script = benchJobScript(runner->plan());
-      writeFileAtomically(emit_arg.getValue(), [&](std::ostream& os) { os << script; });
-      std::printf("%zu runs: %s\nplan: %s/%s\nthen: %s bench --collect %s\n",
-                  runner->plan().runs.size(), emit_arg.getValue().c_str(), out_dir.c_str(),
-                  kBenchPlanFile, argv[0], out_dir.c_str());
+      writeBenchJobs(runner->plan(), emit_arg.getValue());
+      // argv[0] is "dynslam bench".
+      std::printf("%zu runs: %s\nplan: %s/%s\nthen: %s --collect %s\n", runner->plan().runs.size(),
+                  emit_arg.getValue().c_str(), out_dir.c_str(), kBenchPlanFile, argv[0],
+                  out_dir.c_str());
       return kOk;
     }
-    report = std::make_unique<BenchReport>(runner->runAll(progress));
+    writeBenchPlan(runner->plan());
+    BenchResults results;
+    {
+      InterruptGuard interrupt;  // Ctrl-C: no new runs, the running ones stop, no report
+      results = runner->runAll(progress);
+    }
+    if (results.interrupted_by) {
+      const std::size_t made = results.runs.size() - results.failures();
+      std::fprintf(stderr,
+                   "%s: %s after %zu of %zu runs; no report written (the finished run "
+                   "folders stay)\n",
+                   argv[0], Interrupted(results.interrupted_by).what(), made, results.runs.size());
+      return Interrupted(results.interrupted_by).exitCode();
+    }
+    report = std::make_unique<BenchReport>(std::move(results));
   }
   if (plots_arg.getValue()) writeBenchPlots(*report, out_dir, progress);
   const std::string json = out_dir + "/report.json", md = out_dir + "/report.md";

@@ -9,10 +9,14 @@ namespace {
 
 std::atomic<int> g_signal{0};
 struct sigaction g_old_int, g_old_term;
+// sigqueue's value on a forwarded copy (forwardInterrupt).
+constexpr int kForwardedMark = 0x64736c6d;
 
-extern "C" void onSignal(int sig) {
+extern "C" void onSignal(int sig, siginfo_t* info, void*) {
   int expected = 0;
-  if (!g_signal.compare_exchange_strong(expected, sig)) {
+  const bool forwarded =
+      info != nullptr && info->si_code == SI_QUEUE && info->si_value.sival_int == kForwardedMark;
+  if (!g_signal.compare_exchange_strong(expected, sig) && !forwarded) {
     // The second signal: the default action (end the process) at once.
     std::signal(sig, SIG_DFL);
     std::raise(sig);
@@ -24,7 +28,8 @@ extern "C" void onSignal(int sig) {
 InterruptGuard::InterruptGuard() {
   g_signal = 0;
   struct sigaction sa {};
-  sa.sa_handler = onSignal;
+  sa.sa_sigaction = onSignal;
+  sa.sa_flags = SA_SIGINFO;
   sigemptyset(&sa.sa_mask);
   sigaction(SIGINT, &sa, &g_old_int);
   sigaction(SIGTERM, &sa, &g_old_term);
@@ -33,6 +38,12 @@ InterruptGuard::InterruptGuard() {
 InterruptGuard::~InterruptGuard() {
   sigaction(SIGINT, &g_old_int, nullptr);
   sigaction(SIGTERM, &g_old_term, nullptr);
+}
+
+bool forwardInterrupt(pid_t pid, int signal) {
+  union sigval value {};
+  value.sival_int = kForwardedMark;
+  return sigqueue(pid, signal, value) == 0;
 }
 
 int InterruptGuard::signalReceived() { return g_signal.load(); }

@@ -3,12 +3,17 @@
 // end-to-end run on fr1_rpy.
 #include <gtest/gtest.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
+#include <chrono>
 #include <cmath>
+#include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <limits>
 #include <opencv2/imgcodecs.hpp>
+#include <thread>
 
 #include "bench/bench_plots.h"
 #include "bench/bench_report.h"
@@ -417,6 +422,84 @@ TEST(BenchCli, EndToEndOnFr1RpyWritesBothReports) {
         << png;
 }
 
+/// TEMP/rgbd_dataset_freiburg1_rpy holding the first `frames` RGB-D pairs of
+/// fr1_rpy (lists cut, images linked) and its groundtruth.
+std::string shortRpy(const TempDir& tmp, std::size_t frames) {
+  namespace fs = std::filesystem;
+  const std::string src = test::rpyDir(), dst = tmp / "rgbd_dataset_freiburg1_rpy";
+  fs::create_directories(dst + "/rgb");
+  fs::create_directories(dst + "/depth");
+  fs::copy_file(src + "/groundtruth.txt", dst + "/groundtruth.txt");
+  for (const char* list : {"rgb.txt", "depth.txt"}) {
+    std::ifstream in(src + "/" + list);
+    std::ofstream out(dst + "/" + list);
+    std::size_t n = 0;
+    for (std::string line; n < frames && std::getline(in, line);) {
+      out << line << "\n";
+      if (line.empty() || line[0] == '#') continue;
+      ++n;
+      const std::string file = line.substr(line.find(' ') + 1);
+      fs::create_symlink(src + "/" + file, dst + "/" + file);
+    }
+  }
+  return dst;
+}
+
+// Ctrl-C on `dynslam bench`: a terminal signals the whole process group (the
+// bench and its `dynslam run`); `kill PID` only the bench, which forwards it.
+// Either way the bench starts no more runs, waits for the running one to
+// stop, exits 130 with one line and writes no report; no run survives it.
+TEST(BenchCli, CtrlCStopsTheRunsAndWritesNoReport) {
+  for (const bool whole_group : {true, false}) {
+    SCOPED_TRACE(whole_group ? "SIGINT to the process group" : "SIGINT to the bench alone");
+    TempDir tmp;
+    const std::string seq = shortRpy(tmp, 20), out = tmp / "b", log = tmp / "log";
+    std::vector<std::string> argv = {
+        test::dynslamBinary(), "bench", seq, "-o", out, "--modes", "off", "--runs", "3",
+        "--max-frames",        "20"};
+    const pid_t pid = fork();
+    if (pid == 0) {
+      setpgid(0, 0);  // its own group, as a terminal's foreground job
+      std::FILE* f = std::freopen(log.c_str(), "w", stdout);
+      (void)f;
+      dup2(fileno(stdout), fileno(stderr));
+      std::vector<char*> a;
+      for (auto& arg : argv) a.push_back(arg.data());
+      a.push_back(nullptr);
+      execv(a[0], a.data());
+      _exit(127);
+    }
+    ASSERT_GT(pid, 0);
+    setpgid(pid, pid);
+    // Signalled once the first run is under way.
+    const std::string run1_log = out + "/rgbd_dataset_freiburg1_rpy/off/run1.log";
+    const auto t0 = std::chrono::steady_clock::now();
+    auto elapsed = [&] { return std::chrono::steady_clock::now() - t0; };
+    while (!std::filesystem::exists(run1_log) && elapsed() < std::chrono::seconds(60))
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    std::this_thread::sleep_for(std::chrono::milliseconds(500));
+    if (whole_group)
+      killpg(pid, SIGINT);
+    else
+      kill(pid, SIGINT);
+    int status = 0;
+    while (waitpid(pid, &status, WNOHANG) == 0 && elapsed() < std::chrono::seconds(120))
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    const bool group_left = killpg(pid, 0) == 0;
+    if (group_left) killpg(pid, SIGKILL);
+    waitpid(pid, &status, WNOHANG);
+    const std::string output = test::readText(log);
+    EXPECT_FALSE(group_left) << "a process of the bench's group (its `dynslam run`) survived it";
+    ASSERT_TRUE(WIFEXITED(status)) << output;
+    EXPECT_EQ(WEXITSTATUS(status), 130) << output;
+    EXPECT_NE(output.find("dynslam bench: interrupted by SIGINT"), std::string::npos) << output;
+    EXPECT_FALSE(std::filesystem::exists(out + "/report.json"));
+    EXPECT_FALSE(std::filesystem::exists(out + "/report.md"));
+    EXPECT_FALSE(std::filesystem::exists(out + "/rgbd_dataset_freiburg1_rpy/off/run3.log"))
+        << output;
+  }
+}
+
 // report.json has the same key at several depths ("keyframes" at the top and
 // in "final_global_ba"); the key path picks the one asked for, whatever the
 // order, and skips strings and arrays holding braces, quotes and keys.
@@ -430,6 +513,28 @@ TEST(JsonNumberAt, FollowsTheKeyPathNotTheFirstOccurrence) {
   const std::string tricky =
       R"({"s": "a}\"{\"fps\": 1", "arr": [1, {"fps": 3}, "]"], "fps": -7.5e1})";
   EXPECT_DOUBLE_EQ(jsonNumberAt(tricky, "fps"), -75.0);
+}
+
+// `--collect` refuses an interrupted run ("interrupted": true) and a cut
+// report.json: the literal at a path, and whether the text is whole JSON.
+TEST(JsonNumberAt, LiteralsAndWholeDocuments) {
+  const std::string doc =
+      R"({"interrupted": true, "a": {"b": null, "c": [1, "x]"]}, "n": -2.5e3, "s": "t"})";
+  EXPECT_TRUE(isWellFormedJson(doc));
+  EXPECT_TRUE(isWellFormedJson(" [1, 2.5e-3, {\"k\": \"v\\\"}\"}, false]\n"));
+  EXPECT_EQ(jsonLiteralAt(doc, "interrupted"), "true");
+  EXPECT_EQ(jsonLiteralAt(doc, "a.b"), "null");
+  EXPECT_EQ(jsonLiteralAt(doc, "n"), "-2.5e3");
+  EXPECT_EQ(jsonLiteralAt(doc, "a.c"), "");  // an array
+  EXPECT_EQ(jsonLiteralAt(doc, "s"), "");    // a string
+  EXPECT_EQ(jsonLiteralAt(doc, "missing"), "");
+  EXPECT_TRUE(std::isnan(jsonNumberAt(doc, "interrupted")));
+  EXPECT_DOUBLE_EQ(jsonNumberAt(doc, "n"), -2500.0);
+  for (std::size_t cut = 0; cut < doc.size(); ++cut)
+    EXPECT_FALSE(isWellFormedJson(doc.substr(0, cut))) << doc.substr(0, cut);
+  EXPECT_FALSE(isWellFormedJson(doc + " {}"));
+  EXPECT_FALSE(isWellFormedJson(R"({"a": tru})"));
+  EXPECT_FALSE(isWellFormedJson(R"({"a" 1})"));
 }
 
 TEST(JsonNumberAt, AbsentNullNonNumberOrMalformedIsNaN) {

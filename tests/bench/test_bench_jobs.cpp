@@ -8,6 +8,8 @@
 #include <sys/stat.h>
 
 #include <algorithm>
+#include <chrono>
+#include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -16,6 +18,7 @@
 #include "bench/bench_report.h"
 #include "bench/bench_runner.h"
 #include "core/errors.h"
+#include "core/interrupt.h"
 #include "rawlog/sequence_source.h"
 #include "system/system_config.h"
 #include "testing/test_support.h"
@@ -178,6 +181,129 @@ TEST(BenchJobs, SpreadRunsScaleTheKeypointBudgets) {
             fs::absolute(o.config).lexically_normal().string());
 }
 
+// Ctrl-C in a terminal reaches the bench and its runs (one process group);
+// a run that stops for it (exit code 130, as `dynslam run` after a Ctrl-C)
+// stops the whole bench even when the bench itself saw nothing: the runs
+// after it are not started.
+TEST(BenchJobs, ARunStoppedByASignalStopsTheBench) {
+  TempDir tmp;
+  BenchOptions o = fakeOptions(tmp, tmp / "out");
+  const std::string fake = o.dynslam_binary;
+  o.dynslam_binary = tmp / "stopping_dynslam";
+  test::writeText(o.dynslam_binary,
+                  "#!/bin/sh\n"
+                  "case \"$4\" in */off/run2) echo 'interrupted by SIGINT'; exit 130;; esac\n"
+                  "exec '" +
+                      fake + "' \"$@\"\n");
+  ::chmod(o.dynslam_binary.c_str(), 0755);
+  const BenchResults res = BenchRunner(o).runAll();
+  EXPECT_EQ(res.interrupted_by, SIGINT);
+  ASSERT_EQ(res.runs.size(), 4u);
+  EXPECT_TRUE(res.runs[0].ok) << res.runs[0].error;
+  EXPECT_FALSE(res.runs[1].ok);
+  EXPECT_NE(res.runs[1].error.find("exit code 130"), std::string::npos) << res.runs[1].error;
+  for (std::size_t i = 2; i < 4; ++i) {
+    EXPECT_FALSE(res.runs[i].ok) << i;
+    EXPECT_FALSE(fs::exists(res.runs[i].dir + ".log")) << "started: " << res.runs[i].dir;
+  }
+}
+
+// A signal sent to the bench alone (`kill PID`) is forwarded to the running
+// run, which stops (here a script standing in for `dynslam run`, which would
+// otherwise sleep 30 s), and no further run starts.
+TEST(BenchJobs, ASignalToTheBenchAloneIsForwardedToItsRun) {
+  TempDir tmp;
+  BenchOptions o = fakeOptions(tmp, tmp / "out");
+  o.modes = {"off"};
+  o.dynslam_binary = tmp / "slow_dynslam";
+  test::writeText(o.dynslam_binary,
+                  "#!/bin/sh\n"
+                  "trap 'kill $pid; echo stopped; exit 130' INT\n"
+                  "sleep 30 & pid=$!\n"
+                  "kill -INT $PPID\n"  // the bench: here this test's process
+                  "wait $pid\n"
+                  "echo 'not stopped'\n");
+  ::chmod(o.dynslam_binary.c_str(), 0755);
+  BenchResults res;
+  const auto t0 = std::chrono::steady_clock::now();
+  {
+    InterruptGuard guard;
+    res = BenchRunner(o).runAll();
+  }
+  { InterruptGuard clear; }  // no signal pending for the other tests' runAll
+  EXPECT_LT(std::chrono::steady_clock::now() - t0, std::chrono::seconds(20));
+  EXPECT_EQ(res.interrupted_by, SIGINT);
+  ASSERT_EQ(res.runs.size(), 2u);
+  EXPECT_FALSE(res.runs[0].ok);
+  EXPECT_EQ(test::readText(res.runs[0].dir + ".log"), "stopped\n");
+  EXPECT_FALSE(fs::exists(res.runs[1].dir + ".log"));
+}
+
+// --collect takes whole runs only: a run folder whose report.json says the
+// run was interrupted, or is cut short, is an error naming that file (as a
+// missing file is), not a run with partial or missing numbers.
+TEST(BenchJobs, CollectRefusesInterruptedOrDamagedRuns) {
+  TempDir tmp;
+  const BenchOptions o = fakeOptions(tmp, tmp / "out");
+  const BenchPlan plan = makeBenchPlan(o);
+  ASSERT_EQ(BenchRunner(o).runAll().failures(), 0u);
+  EXPECT_EQ(collectBenchResults(plan).failures(), 0u);
+  const std::string report = plan.runs[1].dir + "/report.json";
+  const std::string whole = test::readText(report);
+  ASSERT_EQ(whole.rfind("{\n", 0), 0u) << whole;
+  auto collectError = [&] {
+    try {
+      collectBenchResults(plan);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  // As `dynslam run` writes it after a Ctrl-C.
+  test::writeText(report, "{\n  \"interrupted\": true,\n" + whole.substr(2));
+  std::string error = collectError();
+  EXPECT_EQ(error.find(report + ": "), 0u) << error;
+  EXPECT_NE(error.find("interrupted"), std::string::npos) << error;
+  test::writeText(report, whole.substr(0, whole.size() / 2));
+  error = collectError();
+  EXPECT_EQ(error.find(report + ": "), 0u) << error;
+  EXPECT_NE(error.find("JSON"), std::string::npos) << error;
+  test::writeText(report, "{\n  \"interrupted\": false,\n" + whole.substr(2));
+  EXPECT_EQ(collectError(), "no error");
+}
+
+// --emit-jobs writes the plan and the job file, or neither: a job file that
+// cannot be written (its folder is a file) leaves no output folder behind,
+// nor does a plan that cannot be made (a bad config under --spread).
+TEST(BenchJobs, EmitWritesThePlanAndTheJobFileOrNeither) {
+  TempDir tmp;
+  BenchOptions o = fakeOptions(tmp, tmp / "out");
+  test::writeText(tmp / "afile", "");
+  const BenchPlan plan = makeBenchPlan(o);
+  try {
+    writeBenchJobs(plan, tmp / "afile/jobs.txt");
+    ADD_FAILURE() << "no error";
+  } catch (const std::exception& e) {
+    EXPECT_EQ(std::string(e.what()).find(tmp / "afile/jobs.txt"), 0u) << e.what();
+  }
+  EXPECT_FALSE(fs::exists(o.out_dir));
+  // Into the output folder itself, which the plan makes.
+  writeBenchJobs(plan, o.out_dir + "/jobs.txt");
+  EXPECT_EQ(test::readText(o.out_dir + "/jobs.txt"), benchJobScript(plan));
+  EXPECT_TRUE(fs::exists(o.out_dir + "/" + kBenchPlanFile));
+
+  test::writeText(tmp / "bad.yaml", "orb:\n  n_featurez: 900\n");
+  o.out_dir = tmp / "spread";
+  o.spread = true;
+  o.config = tmp / "bad.yaml";
+  EXPECT_THROW(writeBenchJobs(makeBenchPlan(o), tmp / "jobs.txt"), InputError);
+  EXPECT_FALSE(fs::exists(o.out_dir));
+  std::vector<std::string> entries;
+  for (const auto& e : fs::directory_iterator(tmp.path())) entries.push_back(e.path().filename());
+  std::sort(entries.begin(), entries.end());
+  EXPECT_EQ(entries, (std::vector<std::string>{"afile", "bad.yaml", "fake_dynslam", "out"}));
+}
+
 TEST(BenchJobs, BadOptionsAreRejected) {
   TempDir tmp;
   BenchOptions o = fakeOptions(tmp, tmp / "out");
@@ -261,6 +387,23 @@ TEST(BenchJobsCli, CollectOfMissingOrPartialRunsFailsNamingThem) {
   EXPECT_NE(partial.output.find(run1 + "/frame_times.txt"), std::string::npos) << partial.output;
   EXPECT_FALSE(fs::exists(tmp / "b/report.json"));
   EXPECT_FALSE(fs::exists(tmp / "b/report.md"));
+}
+
+TEST(BenchJobsCli, EmitIntoAnUnwritablePlaceWritesNothingAndTheHintIsRunnable) {
+  TempDir tmp;
+  test::writeText(tmp / "afile", "");
+  const auto bad = test::runDynslam({"bench", test::rpyDir(), "-o", tmp / "b", "--modes", "off",
+                                     "--runs", "1", "--emit-jobs", tmp / "afile/jobs.txt"});
+  EXPECT_EQ(bad.exit_code, 1) << bad.output;
+  EXPECT_NE(bad.output.find(tmp / "afile/jobs.txt"), std::string::npos) << bad.output;
+  EXPECT_FALSE(fs::exists(tmp / "b")) << bad.output;
+
+  const auto emit = test::runDynslam({"bench", test::rpyDir(), "-o", tmp / "b", "--modes", "off",
+                                      "--runs", "1", "--emit-jobs", tmp / "jobs.txt"});
+  ASSERT_EQ(emit.exit_code, 0) << emit.output;
+  EXPECT_NE(emit.output.find("then: dynslam bench --collect " + (tmp / "b") + "\n"),
+            std::string::npos)
+      << emit.output;
 }
 
 /// The Markdown report's accuracy and map-size rows (not the timing table,

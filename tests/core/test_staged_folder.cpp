@@ -1,5 +1,6 @@
 // StagedFolder: a run folder is replaced whole or not at all.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <csignal>
 #include <filesystem>
@@ -134,4 +135,33 @@ TEST(InterruptGuard, FirstSignalIsAFlagNotAnExit) {
   }
   InterruptGuard again;  // a new guard starts clean
   EXPECT_EQ(InterruptGuard::signalReceived(), 0);
+}
+
+// `bench` forwards its signal to its runs, which in a terminal got the same
+// Ctrl-C themselves: the forwarded copy must not count as a second Ctrl-C
+// (which ends a process at once), while a real second signal still does.
+TEST(InterruptGuard, AForwardedCopyIsNeverASecondSignal) {
+  EXPECT_EXIT(
+      {
+        InterruptGuard g;
+        std::raise(SIGINT);                           // the terminal's Ctrl-C
+        dynslam::forwardInterrupt(getpid(), SIGINT);  // and the parent's copy
+        std::exit(InterruptGuard::signalReceived() == SIGINT ? 0 : 1);
+      },
+      testing::ExitedWithCode(0), "");
+  EXPECT_EXIT(
+      {
+        InterruptGuard g;
+        dynslam::forwardInterrupt(getpid(), SIGTERM);  // a copy alone is a first request
+        std::exit(InterruptGuard::signalReceived() == SIGTERM ? 0 : 1);
+      },
+      testing::ExitedWithCode(0), "");
+  EXPECT_EXIT(
+      {
+        InterruptGuard g;
+        std::raise(SIGINT);
+        std::raise(SIGINT);
+        std::exit(0);
+      },
+      testing::KilledBySignal(SIGINT), "");
 }
