@@ -61,6 +61,21 @@ std::vector<std::string> hiddenEntries(const std::string& dir) {
   return v;
 }
 
+// SIGINT to `pid`, a command writing into `d` (its output in d/log): exit
+// 130 and nothing left in `d` but the log.
+void expectSigintLeavesOnlyTheLog(pid_t pid, const TempDir& d) {
+  kill(pid, SIGINT);
+  const int status = waitFor(pid);
+  const std::string log = readText(d / "log");
+  ASSERT_TRUE(WIFEXITED(status)) << log;
+  EXPECT_EQ(WEXITSTATUS(status), 130) << log;
+  std::vector<std::string> left;
+  for (const auto& e : fs::directory_iterator(d.path()))
+    if (e.path().filename() != "log") left.push_back(e.path().filename());
+  EXPECT_TRUE(left.empty()) << left.size() << " entries left, first "
+                            << (left.empty() ? "" : left[0]);
+}
+
 }  // namespace
 
 TEST(RunInterrupted, SigintWritesTheFramesSoFarAndExits130) {
@@ -160,16 +175,7 @@ TEST(ConvertInterrupted, SigintRemovesItsTemporaries) {
   };
   for (int i = 0; i < 3000 && temporaries() == 0; ++i) sleepS(0.02);
   ASSERT_GT(temporaries(), 0u) << "convert wrote nothing within 60 s";
-  kill(pid, SIGINT);
-  const int status = waitFor(pid);
-  const std::string log = readText(d / "log");
-  ASSERT_TRUE(WIFEXITED(status)) << log;
-  EXPECT_EQ(WEXITSTATUS(status), 130) << log;
-  std::vector<std::string> left;
-  for (const auto& e : fs::directory_iterator(d.path()))
-    if (e.path().filename() != "log") left.push_back(e.path().filename());
-  EXPECT_TRUE(left.empty()) << left.size() << " entries left, first "
-                            << (left.empty() ? "" : left[0]);
+  expectSigintLeavesOnlyTheLog(pid, d);
 }
 
 // `synth` was killed by Ctrl-C (no handler) and left its staging folder with
@@ -185,14 +191,5 @@ TEST(SynthInterrupted, SigintRemovesItsStagingFolder) {
   for (int i = 0; i < 3000 && !staged(); ++i) sleepS(0.02);
   ASSERT_TRUE(staged()) << "synth staged nothing within 60 s";
   sleepS(0.3);
-  kill(pid, SIGINT);
-  const int status = waitFor(pid);
-  const std::string log = readText(d / "log");
-  ASSERT_TRUE(WIFEXITED(status)) << log;
-  EXPECT_EQ(WEXITSTATUS(status), 130) << log;
-  std::vector<std::string> left;
-  for (const auto& e : fs::directory_iterator(d.path()))
-    if (e.path().filename() != "log") left.push_back(e.path().filename());
-  EXPECT_TRUE(left.empty()) << left.size() << " entries left, first "
-                            << (left.empty() ? "" : left[0]);
+  expectSigintLeavesOnlyTheLog(pid, d);
 }
