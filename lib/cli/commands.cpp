@@ -86,8 +86,8 @@ bool parseArguments(TCLAP::CmdLine& cmd, int argc, char** argv, int& exit_code) 
 /// line that says what went wrong.
 static std::string userMessage(const std::exception& e) {
   const std::string what = e.what();
-  if (dynamic_cast<const InputError*>(&e)) return what.substr(0, what.find('\n'));
-  return oneLineMessage(what);
+  if (dynamic_cast<const InputError*>(&e)) return printableLine(what.substr(0, what.find('\n')));
+  return printableLine(oneLineMessage(what));
 }
 
 static void printUsage(std::FILE* out) {
@@ -125,8 +125,8 @@ int dispatch(int argc, char** argv) {
       std::fprintf(stderr, "%s: %s\n", prog.c_str(), e.what());
       return e.exitCode();
     } catch (const UsageError& e) {
-      std::fprintf(stderr, "%s: error: %s\nrun '%s --help' for usage\n", prog.c_str(), e.what(),
-                   prog.c_str());
+      std::fprintf(stderr, "%s: error: %s\nrun '%s --help' for usage\n", prog.c_str(),
+                   printableLine(e.what()).c_str(), prog.c_str());
       return kUsage;
     } catch (const std::exception& e) {
       std::fprintf(stderr, "%s: error: %s\n", prog.c_str(), userMessage(e).c_str());

@@ -27,4 +27,24 @@ std::string oneLineMessage(const std::string& what) {
   return first.empty() ? what : first;
 }
 
+std::string printableLine(const std::string& line, std::size_t max_chars) {
+  static const char* const kHex = "0123456789abcdef";
+  std::string out;
+  for (char ch : line) {
+    if (out.size() >= max_chars) {
+      out += "...";
+      break;
+    }
+    const auto c = static_cast<unsigned char>(ch);
+    if (c < 0x20 || c == 0x7f) {
+      out += "\\x";
+      out += kHex[c >> 4];
+      out += kHex[c & 15];
+    } else {
+      out += ch;
+    }
+  }
+  return out;
+}
+
 }  // namespace dynslam

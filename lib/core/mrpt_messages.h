@@ -1,11 +1,16 @@
 #pragma once
 // MRPT exceptions carry a multi-line trace ("file:line: function: ...");
 // user-facing errors must stay on one line.
+#include <cstddef>
 #include <string>
 
 namespace dynslam {
 
 /// The most informative single line of an exception message from MRPT.
 std::string oneLineMessage(const std::string& what);
+
+/// `line` safe to print on a terminal: control bytes (a message that quotes
+/// a binary file's bytes) as \xNN, and at most `max_chars` characters.
+std::string printableLine(const std::string& line, std::size_t max_chars = 2000);
 
 }  // namespace dynslam

@@ -15,6 +15,7 @@
 #include "core/dynamic_mode.h"
 #include "core/errors.h"
 #include "core/json_writer.h"
+#include "core/mrpt_messages.h"
 #include "core/run_layout.h"
 #include "core/stats.h"
 #include "core/timing.h"
@@ -272,4 +273,14 @@ TEST(DynamicMode, WhichCuesEachModeUses) {
   EXPECT_TRUE(usesFlow(DynamicMode::kFlow));
   EXPECT_TRUE(usesDetector(DynamicMode::kDetectAndFlow));
   EXPECT_TRUE(usesFlow(DynamicMode::kDetectAndFlow));
+}
+
+// An error that quotes a binary file's bytes (a rawlog of random bytes) must
+// not put control bytes on the user's terminal; text, UTF-8 included, stays.
+TEST(Messages, PrintableLineEscapesControlBytesAndCapsTheLength) {
+  EXPECT_EQ(printableLine(std::string("class '\x1b[2J\x01\x7f' x", 16)),
+            "class '\\x1b[2J\\x01\\x7f' x");
+  EXPECT_EQ(printableLine("caf\xc3\xa9.png: not found"), "caf\xc3\xa9.png: not found");
+  EXPECT_EQ(printableLine(std::string(10, 'a'), 4), "aaaa...");
+  EXPECT_EQ(printableLine(std::string("a\0b", 3)), "a\\x00b");
 }
