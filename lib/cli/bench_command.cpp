@@ -20,6 +20,7 @@
 #include "cli/commands.h"
 #include "core/errors.h"
 #include "core/interrupt.h"
+#include "core/staged_folder.h"
 
 namespace dynslam::cli {
 namespace {
@@ -127,6 +128,12 @@ int benchMain(int argc, char** argv) {
     o.max_frames = static_cast<std::size_t>(max_frames_arg.getValue());
     o.config = config_arg.getValue();
     o.out_dir = out_arg.getValue();
+    // Its report.json in a sequence folder made `run -o SEQ` take the
+    // sequence for an earlier run (found by fuzzing).
+    for (const std::string& seq : o.sequences)
+      if (isInsideFolder(seq, o.out_dir))
+        throw UsageError("-o " + o.out_dir + ": the output folder must not hold the sequence " +
+                         seq);
     o.dynslam_binary = self;
     o.jobs = jobs_arg.getValue();
     std::unique_ptr<BenchRunner> runner;

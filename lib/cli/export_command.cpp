@@ -10,6 +10,8 @@
 #include "cli/commands.h"
 #include "core/atomic_file.h"
 #include "core/errors.h"
+#include "core/run_layout.h"
+#include "core/staged_folder.h"
 #include "eval/trajectory_eval.h"
 #include "mapexport/dense_map_config.h"
 #include "mapexport/map_data.h"
@@ -201,6 +203,11 @@ int exportMain(int argc, char** argv) {
     throw UsageError(e.what());
   }
 
+  // `-o RUN/run_info.yaml` overwrote the run's own file (found by fuzzing).
+  for (const char* own : {kRunInfoFile, kConfigUsedFile, kReportFile, kTrajectoryFile,
+                          kKeyFramesFile, kMapPointsFile, kFrameTimesFile, kSavedMapFile})
+    if (isInsideFolder(out_arg.getValue(), run_arg.getValue() + "/" + own))
+      throw UsageError("-o " + out_arg.getValue() + ": that is the run's own " + own);
   RunDirectory run = readRunDirectory(run_arg.getValue());
   DenseMapOptions options;
   OccupancyMapOptions occupancy_options;

@@ -59,14 +59,20 @@ bool PinholeCamera::sameGeometry(const PinholeCamera& o) const {
 
 void PinholeCamera::validate(const std::string& source) const {
   if (width <= 0 || height <= 0) throw InputError(source, "image width/height must be positive");
-  if (!(fx > 0) || !(fy > 0) || !std::isfinite(fx) || !std::isfinite(fy))
-    throw InputError(source, "focal lengths fx, fy must be positive");
+  // Bounds of any real camera: a focal length of 1e-300 or 1e300 px made
+  // NaN map points and crashed the export (found by fuzzing).
+  constexpr int kMaxSide = 16384;
+  if (width > kMaxSide || height > kMaxSide)
+    throw InputError(source, "image width/height must be at most " + std::to_string(kMaxSide));
+  if (!(fx >= 1 && fx <= 1e6) || !(fy >= 1 && fy <= 1e6))
+    throw InputError(source, "focal lengths fx, fy must be in 1..1e6 px");
   if (!(cx > 0 && cx < width) || !(cy > 0 && cy < height))
     throw InputError(source, "principal point (cx, cy) must lie inside the image");
-  if (!(depth_scale > 0) || !std::isfinite(depth_scale))
-    throw InputError(source, "depth_scale must be positive");
+  if (!(depth_scale > 0) || !(depth_scale <= 1e6))
+    throw InputError(source, "depth_scale must be in (0, 1e6] (raw units per metre)");
   for (double d : dist)
-    if (!std::isfinite(d)) throw InputError(source, "distortion must be finite");
+    if (!(std::abs(d) <= 1e3))
+      throw InputError(source, "distortion coefficients must be in -1e3..1e3");
 }
 
 PinholeCamera loadCameraYaml(const std::string& path) {

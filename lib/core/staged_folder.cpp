@@ -44,6 +44,27 @@ void removeStaleStaging(const fs::path& final_dir) {
 
 }  // namespace
 
+namespace {
+bool hasPrefix(const fs::path& p, const fs::path& prefix) {
+  auto pi = p.begin();
+  for (auto fi = prefix.begin(); fi != prefix.end(); ++fi, ++pi) {
+    if (fi->empty()) continue;  // a trailing separator
+    if (pi == p.end() || *pi != *fi) return false;
+  }
+  return true;
+}
+}  // namespace
+
+bool isInsideFolder(const std::string& path, const std::string& folder) {
+  std::error_code ec;
+  const fs::path p = fs::absolute(path, ec).lexically_normal();
+  const fs::path f = fs::absolute(folder, ec).lexically_normal();
+  if (ec || f.empty()) return false;
+  // As written (a link to the input inside the folder is deleted with it)
+  // and with links resolved (a link to the folder).
+  return hasPrefix(p, f) || hasPrefix(fs::weakly_canonical(p, ec), fs::weakly_canonical(f, ec));
+}
+
 StagedFolder::StagedFolder(std::string final_dir, const std::vector<std::string>& markers) {
   fs::path f(final_dir);
   if (f.filename().empty()) f = f.parent_path();  // "out/" -> "out"
@@ -54,8 +75,11 @@ StagedFolder::StagedFolder(std::string final_dir, const std::vector<std::string>
   final_ = f.string();
   if (fs::exists(f, ec)) {
     if (!fs::is_directory(f, ec)) throw InputError(final_, "exists and is not a folder");
-    bool empty = fs::is_empty(f, ec), ours = false;
-    for (const auto& m : markers) ours = ours || fs::exists(f / m, ec);
+    // An earlier output has every marker file (one of them alone is any
+    // project's report.json: replacing that folder deleted it, found by
+    // fuzzing).
+    bool empty = fs::is_empty(f, ec), ours = !markers.empty();
+    for (const auto& m : markers) ours = ours && fs::is_regular_file(f / m, ec);
     if (!empty && !ours)
       throw InputError(final_,
                        "folder is not empty and holds no earlier output to replace; "

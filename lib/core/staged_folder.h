@@ -9,11 +9,15 @@
 
 namespace dynslam {
 
+/// Whether `path` is `folder` or lies below it, as written (made absolute)
+/// or with links resolved.
+bool isInsideFolder(const std::string& path, const std::string& folder);
+
 class StagedFolder {
  public:
   /// Throws InputError(final_dir) when final_dir is a file, or a non-empty
-  /// folder holding none of `markers` (the files an earlier output of the
-  /// same kind has): replacing it would delete someone's data. Creates the
+  /// folder that does not hold every one of `markers` (the files an earlier
+  /// output of the same kind has): replacing it would delete someone's data. Creates the
   /// staging folder; removes stale ones that killed processes left.
   StagedFolder(std::string final_dir, const std::vector<std::string>& markers);
   /// Removes the staging folder unless committed.

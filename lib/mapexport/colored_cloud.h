@@ -9,6 +9,9 @@
 
 namespace dynslam {
 
+/// What the map writers say when asked to write a map without points.
+inline constexpr const char* kEmptyMapMessage = "nothing to write, the map has no points";
+
 struct ColoredPoint {
   float x = 0, y = 0, z = 0;
   std::uint8_t r = 0, g = 0, b = 0;

@@ -109,6 +109,8 @@ std::vector<aiVector3D> frustumSegments(const Trajectory& keyframes,
 }  // namespace
 
 void writeGlb(const std::string& path, const MapData& map, const MapWriteOptions& options) {
+  // assimp's exporter crashed on a mesh without vertices (found by fuzzing).
+  if (map.points.empty()) throw std::runtime_error(path + ": " + kEmptyMapMessage);
   auto scene = std::make_unique<aiScene>();
   scene->mNumMaterials = 1;
   scene->mMaterials = new aiMaterial*[1];

@@ -31,7 +31,7 @@ void writePlyBinary(const std::string& path, const ColoredCloud& cloud) {
   pc.height = 1;
   pc.is_dense = true;
   if (cloud.empty())  // PCL would print "no data" and fail as if the disk did
-    throw std::runtime_error(path + ": nothing to write, the map has no points");
+    throw std::runtime_error(path + ": " + kEmptyMapMessage);
   AtomicPath out(path);
   // PCL prints its own message and returns < 0 (or throws) on failure.
   int rc = -1;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <map>
@@ -272,6 +273,10 @@ namespace {
 
 std::string readWholeFile(const std::string& path) {
   if (isDirectory(path)) throw InputError(path, "is a folder, not a map file");
+  // A device or a pipe (/dev/zero: read until memory ran out; a FIFO: blocked).
+  std::error_code ec;
+  if (fileExists(path) && !std::filesystem::is_regular_file(path, ec))
+    throw InputError(path, "not a regular file, not a map file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path, "cannot open the map file");
   std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());

@@ -48,7 +48,7 @@ OccupancyMapOptions loadOccupancyOptions(const std::string& path,
                                          OccupancyMapOptions defaults = {});
 
 /// Throws InputError(source, ...) naming the bad key: resolution <= 0 (or
-/// below 1 mm), probabilities outside (0, 1) or on the wrong side of 0.5,
+/// below 5 mm or above 10 m), probabilities outside (0, 1) or on the wrong side of 0.5,
 /// floor_min_area <= 0, grid_floor_height >= grid_robot_height.
 void validateOccupancyOptions(const OccupancyMapOptions& options, const std::string& source);
 

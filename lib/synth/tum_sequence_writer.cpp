@@ -43,7 +43,9 @@ void writeCameraYaml(const SyntheticSequence& seq, const std::string& path) {
 
 int writeTumSequence(SyntheticSequence& seq, const std::string& out_dir,
                      const std::function<void(int, int)>& progress) {
-  StagedFolder folder(out_dir, {"rgb.txt", "groundtruth.txt"});
+  // camera.yaml too: a real TUM sequence has the other two, and is no
+  // earlier output of this writer to replace.
+  StagedFolder folder(out_dir, {"rgb.txt", "groundtruth.txt", "camera.yaml"});
   const std::string dir = folder.path();
   const bool masks = seq.params().room.movers > 0;
   for (const char* sub : {"rgb", "depth"}) makeDirectories(dir + "/" + sub);

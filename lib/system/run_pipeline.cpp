@@ -52,7 +52,13 @@ RunSummary runSlam(const RunOptions& opt) {
   std::size_t n = source->size();
   if (opt.max_frames > 0) n = std::min(n, opt.max_frames);
   // The run folder is one unit: written beside and moved into place when
-  // complete (an earlier run there is replaced whole).
+  // complete (an earlier run there is replaced whole), so it must not hold
+  // what the run reads (`--map RUN/map.dsm -o RUN` deleted the map).
+  for (const std::string& input : {opt.input, opt.map_path, opt.config_path, opt.camera_config})
+    if (!input.empty() && isInsideFolder(input, opt.out_dir))
+      throw InputError(opt.out_dir, "holds " + input +
+                                        ", an input of this run: the run would replace the "
+                                        "folder and delete it; choose another output folder");
   StagedFolder staged(opt.out_dir, {kRunInfoFile, kReportFile, kTrajectoryFile});
 
   SlamSystem slam(cfg, source->camera());

@@ -179,6 +179,23 @@ TEST(Camera, BadConfigsAreErrorsNamingTheFile) {
   EXPECT_THROW(loadCameraYaml(d / "b.yaml"), InputError);
   writeText(d / "c.yaml", "camera: [1, 2\n");
   EXPECT_THROW(loadCameraYaml(d / "c.yaml"), InputError);
+  // Values no camera has: fx 1e-300 made NaN map points and crashed the
+  // export, width 1e9 a bad_alloc naming nothing (found by fuzzing).
+  const std::string good =
+      "camera:\n  width: 640\n  height: 480\n  fx: 500\n  fy: 500\n  cx: 320\n  cy: 240\n"
+      "  depth_scale: 5000\n";
+  writeText(d / "good.yaml", good);
+  EXPECT_NO_THROW(loadCameraYaml(d / "good.yaml"));
+  for (const auto& [from, to] : std::vector<std::pair<std::string, std::string>>{
+           {"fx: 500", "fx: 1e-300"},
+           {"fy: 500", "fy: 1e300"},
+           {"width: 640", "width: 1e9"},
+           {"depth_scale: 5000", "depth_scale: 1e300"}}) {
+    std::string text = good;
+    text.replace(text.find(from), from.size(), to);
+    writeText(d / "e.yaml", text);
+    EXPECT_THROW(loadCameraYaml(d / "e.yaml"), InputError) << to;
+  }
   EXPECT_THROW(loadCameraYaml(d / "missing.yaml"), InputError);
 }
 

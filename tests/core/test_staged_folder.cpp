@@ -67,6 +67,32 @@ TEST(StagedFolder, ALinkToAnEarlierRunReplacesItsTarget) {
   EXPECT_EQ(entries(d.path()), (std::vector<std::string>{"link", "real"}));
 }
 
+// One marker file alone is anybody's report.json: the folder (a project, a
+// benchmark, the parent of the input) was replaced whole (found by fuzzing).
+TEST(StagedFolder, AFolderWithOnlySomeMarkersIsRefusedAndKept) {
+  TempDir d;
+  const std::string proj = d / "proj";
+  writeText(proj + "/report.json", "{\"my\": \"data\"}");
+  writeText(proj + "/src/main.c", "int main() {}");
+  EXPECT_THROW(StagedFolder(proj, {"run_info.yaml", "report.json", "trajectory.txt"}), InputError);
+  EXPECT_EQ(readText(proj + "/src/main.c"), "int main() {}");
+  EXPECT_EQ(entries(d.path()), std::vector<std::string>{"proj"});
+}
+
+TEST(StagedFolder, IsInsideFolderComparesWholeNames) {
+  TempDir d;
+  writeText(d / "run/map.dsm", "x");
+  EXPECT_TRUE(dynslam::isInsideFolder(d / "run/map.dsm", d / "run"));
+  EXPECT_TRUE(dynslam::isInsideFolder(d / "run/map.dsm", d / "run/"));
+  EXPECT_TRUE(dynslam::isInsideFolder(d / "run", d / "run"));
+  EXPECT_TRUE(dynslam::isInsideFolder(d / "run/../run/map.dsm", d / "run"));
+  EXPECT_TRUE(dynslam::isInsideFolder(d / "run/not_yet/x", d.path()));
+  EXPECT_FALSE(dynslam::isInsideFolder(d / "run2/map.dsm", d / "run"));
+  EXPECT_FALSE(dynslam::isInsideFolder(d.path(), d / "run"));
+  fs::create_directory_symlink(d / "run", d / "link");
+  EXPECT_TRUE(dynslam::isInsideFolder(d / "link/map.dsm", d / "run"));
+}
+
 TEST(StagedFolder, WithoutCommitNothingChangesAndNothingIsLeft) {
   TempDir d;
   const std::string out = d / "run";

@@ -71,6 +71,21 @@ TEST(ExitCodes, ExportRangeErrors) {
   EXPECT_TRUE(entriesIn(d.path()).empty());
 }
 
+// Found by fuzzing: `export -o RUN/run_info.yaml` overwrote the run's own
+// file; `bench -o SEQ` wrote its report into the sequence (which `run -o
+// SEQ` then took for an earlier run and deleted); `--map ''` was ignored.
+TEST(ExitCodes, OutputsThatWouldOverwriteInputs) {
+  TempDir d;
+  expectUsageError({"export", d / "run", "-o", d / "run/run_info.yaml"}, "run_info.yaml");
+  expectUsageError({"export", d / "run", "-o", d / "run/config_used.yaml"}, "config_used.yaml");
+  const MiniTum tum = makeMiniTum(d.path(), 2);
+  expectUsageError({"bench", tum.dir, "-o", tum.dir}, tum.dir);
+  expectUsageError({"bench", tum.dir, "-o", d.path()}, tum.dir);
+  expectUsageError({"run", tum.dir, "-o", d / "out", "--map", ""}, "--map");
+  EXPECT_FALSE(fs::exists(d / "run"));
+  EXPECT_FALSE(fs::exists(d / "out"));
+}
+
 TEST(ExitCodes, BenchMaxFramesNegative) {
   TempDir d;
   expectUsageError({"bench", d / "seq", "--max-frames", "-1", "-o", d / "b"}, "--max-frames");

@@ -104,7 +104,9 @@ TEST(RunInterrupted, SigintWritesTheFramesSoFarAndExits130) {
 TEST(RunInterrupted, SecondSignalEndsAtOnceAndTheNextRunCleansUp) {
   TempDir d;
   const std::string out = d / "run";
-  writeText(out + "/report.json", "earlier run");
+  // An earlier run: the three files every run folder has.
+  for (const char* f : {"report.json", "run_info.yaml", "trajectory.txt"})
+    writeText(out + "/" + f, "earlier run");
   const pid_t pid = start({"run", rpyDir(), "-o", out, "--mode", "off"}, d / "log");
   sleepS(3.0);
   kill(pid, SIGTERM);
@@ -132,6 +134,30 @@ TEST(RunOutputFolder, AFolderOfOtherFilesIsRefusedAndKept) {
   EXPECT_EQ(r.exit_code, 1) << r.output;
   EXPECT_NE(r.output.find(out), std::string::npos) << r.output;
   EXPECT_EQ(listFiles(out), std::vector<std::string>{"notes.txt"});
+}
+
+// A folder that holds what the run reads: the sequence (`-o` its parent)
+// or the map (`--map RUN/map.dsm -o RUN`). The run would replace the folder
+// and delete its own input (found by fuzzing).
+TEST(RunOutputFolder, AFolderHoldingAnInputIsRefusedAndKept) {
+  TempDir d;
+  const std::string seq = d / "data/rgbd_dataset_freiburg1_seq";
+  fs::create_directories(d / "data");
+  fs::create_directory_symlink(rpyDir(), seq);
+  for (const char* f : {"report.json", "run_info.yaml", "trajectory.txt"})
+    writeText(d / (std::string("data/") + f), "an earlier run's files, and the input beside them");
+  CommandResult r = runDynslam({"run", seq, "-o", d / "data", "--max-frames", "5"});
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("an input of this run"), std::string::npos) << r.output;
+  EXPECT_TRUE(fs::is_symlink(seq));
+  const std::string run = d / "run";
+  for (const char* f : {"report.json", "run_info.yaml", "trajectory.txt", "map.dsm"})
+    writeText(run + "/" + f, "earlier");
+  r = runDynslam(
+      {"run", rpyDir(), "-o", run, "--max-frames", "5", "--map", run + "/map.dsm", "--localize"});
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find(run + "/map.dsm"), std::string::npos) << r.output;
+  EXPECT_EQ(readText(run + "/map.dsm"), "earlier");
 }
 
 TEST(RunOutputFolder, AFailedRunLeavesTheEarlierRunWhole) {

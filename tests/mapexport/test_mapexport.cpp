@@ -270,12 +270,19 @@ TEST(MapFiles, PlyRoundTripThroughPcl) {
 
 // An empty map is said to be empty (PCL failed it as if the disk were full),
 // and nothing is written.
-TEST(MapFiles, EmptyPlyIsRefusedByName) {
+TEST(MapFiles, EmptyMapIsRefusedByName) {
   TempDir dir;
   MapData map = planeMap();
   map.points.clear();
   try {
     writeMapFile(dir / "map.ply", map);
+    ADD_FAILURE() << "an empty map was written";
+  } catch (const std::exception& e) {
+    EXPECT_NE(std::string(e.what()).find("no points"), std::string::npos) << e.what();
+  }
+  // assimp's exporter crashed on an empty mesh.
+  try {
+    writeMapFile(dir / "map.glb", map);
     ADD_FAILURE() << "an empty map was written";
   } catch (const std::exception& e) {
     EXPECT_NE(std::string(e.what()).find("no points"), std::string::npos) << e.what();

@@ -170,6 +170,7 @@ TEST(OccupancyConfig, EveryBadValueIsRejectedNamingFileAndKey) {
   const std::vector<std::pair<std::string, std::string>> bad = {
       {"resolution", "0"},           {"resolution", "-0.05"},
       {"resolution", "0.0001"},      {"resolution", "abc"},
+      {"resolution", "0.001"},       {"resolution", "1e20"},
       {"prob_hit", "0.4"},           {"prob_hit", "1"},
       {"prob_miss", "0.6"},          {"prob_miss", "0"},
       {"floor_min_area", "0"},       {"grid_floor_height", "1.5"},
