@@ -249,6 +249,8 @@ TEST_F(MapFile, RejectsOtherFiles) {
   EXPECT_NE(loadError(path).find("not a dynslam map"), std::string::npos);
   EXPECT_NE(loadError(dir / "missing.dsm").find("cannot open"), std::string::npos);
   EXPECT_NE(loadError(dir.path()).find("is a folder"), std::string::npos);
+  // A device was read until memory ran out (found by fuzzing).
+  EXPECT_NE(loadError("/dev/zero").find("not a regular file"), std::string::npos);
 }
 
 TEST_F(MapFile, LoadsOnlyIntoAnEmptyMap) {
