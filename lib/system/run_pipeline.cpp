@@ -47,6 +47,12 @@ RunSummary runSlam(const RunOptions& opt) {
   const SlamConfig loaded_cfg = loadSlamConfig(config_path);
   const std::string config_used = slamConfigYaml(loaded_cfg);  // before the mode's derived changes
   const SlamConfig cfg = configForMode(loaded_cfg, opt.mode, opt.localize);
+  // The map keeps the place-recognition index it is relocalised with: without
+  // it the saved map could never be loaded (found by fuzzing).
+  if (opt.save_map && !cfg.loop.enabled)
+    throw InputError(config_path,
+                     "loop_closing.enabled: false, but --save-map needs place recognition (a map "
+                     "is found again through its bag-of-words index)");
 
   std::unique_ptr<FrameSource> source = openSequence(opt.input, opt.camera_config, opt.sensor);
   std::size_t n = source->size();

@@ -398,6 +398,10 @@ TEST(BenchCli, BadInputsExitNonZeroWithAMessage) {
   auto runs = test::runDynslam({"bench", test::rpyDir(), "-o", tmp / "out", "--runs", "0"});
   EXPECT_EQ(runs.exit_code, 2);
   EXPECT_NE(runs.output.find("--runs"), std::string::npos) << runs.output;
+  // No upper bound wrote a 346 MB job file for --runs 1000000.
+  runs = test::runDynslam({"bench", test::rpyDir(), "-o", tmp / "out", "--runs", "1000000"});
+  EXPECT_EQ(runs.exit_code, 2);
+  EXPECT_NE(runs.output.find("--runs"), std::string::npos) << runs.output;
   EXPECT_FALSE(std::filesystem::exists(tmp / "out/report.md"));
 }
 

@@ -323,4 +323,12 @@ TEST_F(SavedMap, FlagMisuseExits2) {
   r = runDynslam({"run", rpyDir(), "--map", mapFile(), "--localize", "--save-map", "-o", out});
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_FALSE(fs::exists(out));
+  // Without place recognition the saved map could never be loaded (found by
+  // fuzzing): refused before any frame, naming the config.
+  const std::string cfg = *dir_ / "no_loop.yaml";
+  writeText(cfg, "loop_closing:\n  enabled: false\n");
+  r = runDynslam({"run", rpyDir(), "--save-map", "--config", cfg, "-o", out, "--max-frames", "5"});
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find(cfg + ": loop_closing.enabled: false"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(out));
 }
