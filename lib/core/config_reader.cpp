@@ -66,21 +66,37 @@ ConfigSection ConfigSection::sub(const std::string& key) {
 }
 
 namespace {
-/// The first line of `path` that starts (after indentation) with "key:"; 0
-/// if none does.
-std::size_t lineOfKey(const std::string& path, const std::string& key) {
+/// The line of `path` that holds the dotted key ("orb.n_features"), by the
+/// block layout's indentation; 0 if none does (flow style, for one).
+std::size_t lineOfKey(const std::string& path, const std::string& dotted) {
   std::ifstream in(path);
+  std::vector<std::pair<std::size_t, std::string>> open;  // indentation, key
   std::size_t n = 0;
   for (std::string line; std::getline(in, line);) {
     ++n;
     const auto b = line.find_first_not_of(' ');
-    if (b != std::string::npos && line.compare(b, key.size(), key) == 0 &&
-        line.find_first_not_of(' ', b + key.size()) == line.find(':', b + key.size()))
-      return n;
+    if (b == std::string::npos || line[b] == '#') continue;
+    const auto colon = line.find(':', b);
+    if (colon == std::string::npos) continue;
+    auto e = line.find_last_not_of(" \t", colon - 1);
+    std::string key = line.substr(b, e == std::string::npos ? 0 : e - b + 1);
+    if (key.size() >= 2 && (key.front() == '"' || key.front() == '\'') && key.back() == key.front())
+      key = key.substr(1, key.size() - 2);
+    while (!open.empty() && open.back().first >= b) open.pop_back();
+    open.emplace_back(b, key);
+    std::string path_here;
+    for (const auto& [indent, k] : open) path_here += (path_here.empty() ? "" : ".") + k;
+    if (path_here == dotted) return n;
   }
   return 0;
 }
 }  // namespace
+
+void ConfigSection::failValue(const std::string& where) const {
+  if (const std::size_t line = lineOfKey(file_, where))
+    throw InputError(file_, line, where + ": wrong type or value");
+  throw InputError(file_, where + ": wrong type or value");
+}
 
 void ConfigSection::rejectUnknownKeys() const {
   if (node_.isNullNode() || !node_.isMap()) return;
@@ -89,7 +105,8 @@ void ConfigSection::rejectUnknownKeys() const {
     if (known_.count(key)) continue;
     const std::string message =
         "unknown parameter '" + (section_.empty() ? key : section_ + "." + key) + "'";
-    if (const std::size_t line = lineOfKey(file_, key)) throw InputError(file_, line, message);
+    if (const std::size_t line = lineOfKey(file_, section_.empty() ? key : section_ + "." + key))
+      throw InputError(file_, line, message);
     throw InputError(file_, message);
   }
 }
@@ -143,10 +160,21 @@ std::string prepareYamlText(const std::string& path, const std::string& text) {
     if (e == std::string::npos) break;
     b = e + 1;
   }
+  // A binary file was reported as "anchors and aliases" (found by fuzzing).
+  if (text.find('\0') != std::string::npos)
+    throw InputError(path, "not a text file (it holds NUL bytes)");
   constexpr int kMaxNesting = 64;
   int depth = 0;
+  bool content = false;
   for (std::size_t i = 0; i < lines.size(); ++i) {
     const std::string& line = lines[i];
+    // MRPT reads the first document only: the rest was silently ignored.
+    if (line.rfind("---", 0) == 0 && (line.size() == 3 || line[3] == ' ' || line[3] == '\r')) {
+      if (content)
+        throw InputError(path, i + 1, "a second YAML document: a config file is one document");
+      continue;
+    }
+    content = content || !isEmptyLine(line);
     const auto text_begin = line.find_first_not_of(" \t");
     if (line.find('\t') < text_begin && text_begin != std::string::npos)
       throw InputError(path, i + 1, "a tab in the indentation (YAML indents with spaces)");

@@ -56,12 +56,14 @@ class ConfigSection {
         value = node_[key].as<T>();
       }
     } catch (const std::exception&) {
-      throw InputError(file_, where + ": wrong type or value");
+      failValue(where);
     }
     return *this;
   }
   /// A list of strings ("[a, b]" or a YAML sequence).
   ConfigSection& readList(const std::string& key, std::vector<std::string>& value);
+  /// Throws InputError(file[:line], "where: wrong type or value").
+  [[noreturn]] void failValue(const std::string& where) const;
   /// Sub-section (missing = empty).
   ConfigSection sub(const std::string& key);
   bool has(const std::string& key) const;

@@ -74,6 +74,20 @@ TEST_F(BadYaml, TabInIndentation) {
 TEST_F(BadYaml, AnchorsAndAliases) {
   expectRejected("system: &a\n  bf: 40\norb: *a\n", false, ":1:");
 }
+// A wrong value named its key but no line; the key's line is found by the
+// block layout, so the same key name in another section is not taken.
+TEST_F(BadYaml, WrongValueNamesItsLine) {
+  expectRejected("system:\n  bf: 40\norb:\n  n_features: abc\n", false, ":4:");
+  expectRejected(
+      "pose_optimizer:\n  chi2_mono: 5\nlocal_mapper:\n  bundle_adjustment:\n    chi2_mono: x\n",
+      false, ":5:");
+}
+// MRPT read the first document and ignored the rest; a binary file was
+// reported as "anchors and aliases".
+TEST_F(BadYaml, SecondDocumentAndBinaryFile) {
+  expectRejected("orb:\n  n_features: 900\n---\norb:\n  bogus: 1\n", false, ":3:");
+  expectRejected(std::string("orb:\n  n_features: 9\0\x01\x02\n", 24));
+}
 TEST_F(BadYaml, UnknownKeyNamesItsLine) {
   expectRejected("orb:\n  n_features: 900\n  nfeatures: 3\n", false, ":3:");
 }

@@ -212,7 +212,9 @@ TEST(ConfigOptions, EmptySectionsKeepTheirDefaults) {
        {std::string("orb:\n  # n_features: 500\ntracker:\n  min_inliers_local: 31\n"),
         std::string("orb:\n\ntracker:\n  min_inliers_local: 31\n"),
         std::string("tracker:\n  min_inliers_local: 31\norb:\n  # n_features: 500\n"),
-        std::string("tracker:\n  min_inliers_local:\n    31\norb:  # empty\n")}) {
+        std::string("tracker:\n  min_inliers_local:\n    31\norb:  # empty\n"),
+        // A leading document marker is one document, not two.
+        std::string("---\ntracker:\n  min_inliers_local: 31\n")}) {
     writeText(d / "c.yaml", text);
     SlamConfig c;
     ASSERT_NO_THROW(c = loadSlamConfig(d / "c.yaml")) << text;
