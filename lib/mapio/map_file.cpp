@@ -1,6 +1,7 @@
 #include "mapio/map_file.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -30,6 +31,14 @@ class CorruptMap : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+/// Every number of a map is finite: a NaN pose that passed the checksum was
+/// loaded and reached the trajectory (found by fuzzing).
+double finite(double v) {
+  if (!std::isfinite(v)) throw CorruptMap("a non-finite number (" + std::to_string(v) + ")");
+  return v;
+}
+float finite(float v) { return static_cast<float>(finite(static_cast<double>(v))); }
+
 void writePose(ByteWriter& w, const mrpt::poses::CPose3D& wc) {
   const auto H = wc.getHomogeneousMatrixVal<mrpt::math::CMatrixDouble44>();
   for (int r = 0; r < 3; ++r)
@@ -40,7 +49,7 @@ mrpt::poses::CPose3D readPose(ByteReader& r) {
   mrpt::math::CMatrixDouble44 H;
   H.setIdentity();
   for (int i = 0; i < 3; ++i)
-    for (int c = 0; c < 4; ++c) H(i, c) = r.f64();
+    for (int c = 0; c < 4; ++c) H(i, c) = finite(r.f64());
   return mrpt::poses::CPose3D(H);
 }
 
@@ -59,11 +68,11 @@ void writeKeyPoints(ByteWriter& w, const std::vector<cv::KeyPoint>& keys) {
 std::vector<cv::KeyPoint> readKeyPoints(ByteReader& r, std::size_t n, int levels) {
   std::vector<cv::KeyPoint> keys(n);
   for (cv::KeyPoint& k : keys) {
-    k.pt.x = r.f32();
-    k.pt.y = r.f32();
-    k.size = r.f32();
-    k.angle = r.f32();
-    k.response = r.f32();
+    k.pt.x = finite(r.f32());
+    k.pt.y = finite(r.f32());
+    k.size = finite(r.f32());
+    k.angle = finite(r.f32());
+    k.response = finite(r.f32());
     k.octave = r.i32();
     k.class_id = r.i32();
     if (k.octave < 0 || k.octave >= levels) throw CorruptMap("keypoint octave out of range");
@@ -101,9 +110,9 @@ std::shared_ptr<FeatureSet> readFeatures(ByteReader& r, std::shared_ptr<const Fr
   for (std::size_t i = 0; i < n; ++i)
     r.bytes(f->descriptors.ptr<uint8_t>(static_cast<int>(i)), kDescriptorBytes);
   f->depth.resize(n);
-  for (float& d : f->depth) d = r.f32();
+  for (float& d : f->depth) d = finite(r.f32());
   f->ur.resize(n);
-  for (float& u : f->ur) u = r.f32();
+  for (float& u : f->ur) u = finite(r.f32());
   f->dynamic.resize(n);
   for (uint8_t& d : f->dynamic) d = r.u8();
   if (colors) {
@@ -141,14 +150,14 @@ void checkIdentity(ByteReader& r, const std::string& path, const FrameContext& c
   PinholeCamera c;
   c.width = r.i32();
   c.height = r.i32();
-  c.fx = r.f64();
-  c.fy = r.f64();
-  c.cx = r.f64();
-  c.cy = r.f64();
-  for (double& d : c.dist) d = r.f64();
-  const double bf = r.f64();
+  c.fx = finite(r.f64());
+  c.fy = finite(r.f64());
+  c.cx = finite(r.f64());
+  c.cy = finite(r.f64());
+  for (double& d : c.dist) d = finite(r.f64());
+  const double bf = finite(r.f64());
   const int levels = r.i32();
-  const float scale = r.f32();
+  const float scale = finite(r.f32());
   const uint64_t voc = r.u64();
   if (!c.sameGeometry(ctx.camera) || bf != ctx.proj.bf || levels != ctx.levels ||
       scale != ctx.scale_factor)
@@ -320,7 +329,7 @@ void readMapBody(ByteReader& r, Map& map, std::shared_ptr<const FrameContext> ct
   for (uint32_t k = 0; k < n_kf; ++k) {
     const long id = r.i64();
     const long frame_id = r.i64();
-    const double timestamp = r.f64();
+    const double timestamp = finite(r.f64());
     const std::size_t frame_index = r.u64();
     const CameraPose pose = CameraPose::exact(readPose(r));
     const bool keep = r.u8() != 0;
@@ -341,15 +350,15 @@ void readMapBody(ByteReader& r, Map& map, std::shared_ptr<const FrameContext> ct
   for (uint32_t k = 0; k < n_points; ++k) {
     const long id = r.i64();
     Eigen::Vector3d pos;
-    for (int i = 0; i < 3; ++i) pos[i] = r.f64();
+    for (int i = 0; i < 3; ++i) pos[i] = finite(r.f64());
     cv::Mat desc;
     if (r.u8()) {
       desc = cv::Mat(1, static_cast<int>(kDescriptorBytes), CV_8UC1);
       r.bytes(desc.ptr<uint8_t>(), kDescriptorBytes);
     }
     Eigen::Vector3d normal;
-    for (int i = 0; i < 3; ++i) normal[i] = r.f64();
-    const float min_dist = r.f32(), max_dist = r.f32();
+    for (int i = 0; i < 3; ++i) normal[i] = finite(r.f64());
+    const float min_dist = finite(r.f32()), max_dist = finite(r.f32());
     KeyFrame* ref = keyframe(r.i64());
     MapPoint* p = map.restoreMapPoint(id, pos, ref);
     p->descriptor = desc;

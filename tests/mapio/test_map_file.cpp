@@ -7,6 +7,7 @@
 
 #include <fstream>
 #include <iterator>
+#include <limits>
 #include <memory>
 #include <random>
 
@@ -251,6 +252,16 @@ TEST_F(MapFile, RejectsOtherFiles) {
   EXPECT_NE(loadError(dir.path()).find("is a folder"), std::string::npos);
   // A device was read until memory ran out (found by fuzzing).
   EXPECT_NE(loadError("/dev/zero").find("not a regular file"), std::string::npos);
+}
+
+// A checksum only says the bytes are as written: a NaN written by a broken
+// program (or a CRC recomputed over a changed file) was loaded and reached
+// keyframes.txt (found by fuzzing).
+TEST_F(MapFile, RejectsNonFiniteNumbersThatPassTheChecksum) {
+  ASSERT_FALSE(original.mapPoints().empty());
+  original.mapPoints().front()->pos.x() = std::numeric_limits<double>::quiet_NaN();
+  saveMap(path, original, *ctx(), kVoc);
+  EXPECT_NE(loadError(path).find("non-finite"), std::string::npos) << loadError(path);
 }
 
 TEST_F(MapFile, LoadsOnlyIntoAnEmptyMap) {
