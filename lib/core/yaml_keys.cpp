@@ -12,8 +12,18 @@ struct MappingLevel {
   std::map<std::string, std::size_t> keys;  ///< key -> first line
 };
 
-/// "  key: value # c" -> "key" (empty when the line holds no plain key).
+/// "  key: value # c" -> "key", '"key": v' -> "key" (a quoted key is the
+/// same key: `bf: 40` then `"bf": 41` passed, found by fuzzing); empty when
+/// the line holds no such key.
 std::string plainKey(const std::string& line, std::size_t from) {
+  if (from < line.size() && (line[from] == '"' || line[from] == '\'')) {
+    const auto close = line.find(line[from], from + 1);
+    if (close == std::string::npos) return "";
+    const auto colon = line.find_first_not_of(" \t", close + 1);
+    if (colon == std::string::npos || line[colon] != ':') return "";
+    if (colon + 1 < line.size() && line[colon + 1] != ' ' && line[colon + 1] != '\t') return "";
+    return line.substr(from + 1, close - from - 1);
+  }
   std::size_t end = from;
   while (end < line.size() && line[end] != ':' && line[end] != '#' && line[end] != '{' &&
          line[end] != '[' && line[end] != '"' && line[end] != '\'')

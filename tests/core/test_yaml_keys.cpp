@@ -24,6 +24,15 @@ TEST(YamlKeys, FindsARepeatedKeyWithBothLines) {
   EXPECT_EQ(d.first_line, 2u);
 }
 
+// A quoted key is the same key (it passed, the last value winning).
+TEST(YamlKeys, AQuotedKeyIsTheSameKey) {
+  const DuplicateKey d = scan("system:\n  bf: 40\n  \"bf\": 41\n");
+  EXPECT_EQ(d.key, "bf");
+  EXPECT_EQ(d.line, 3u);
+  EXPECT_EQ(scan("system:\n  'bf' : 40\n  bf: 41\n").line, 3u);
+  EXPECT_EQ(scan("a:\n  \"x: y\": 1\n  x: 2\n").line, 0u);
+}
+
 TEST(YamlKeys, FindsARepeatedSection) {
   EXPECT_EQ(scan("a:\n  x: 1\nb: 2\na:\n  y: 1\n").line, 4u);
 }
