@@ -1,11 +1,8 @@
 #include "bench/bench_plan.h"
 
 #include <algorithm>
-#include <cerrno>
 #include <cmath>
-#include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <map>
 #include <stdexcept>
 
@@ -14,6 +11,7 @@
 #include "core/dynamic_mode.h"
 #include "core/errors.h"
 #include "core/shell_quote.h"
+#include "core/staged_folder.h"
 #include "core/yaml_writer.h"
 #include "rawlog/sequence_source.h"
 #include "system/system_config.h"
@@ -157,25 +155,12 @@ void writeBenchPlan(const BenchPlan& plan) {
 void writeBenchJobs(const BenchPlan& plan, const std::string& jobs_file) {
   const std::string script = benchJobScript(plan);
   AtomicPath jobs(jobs_file);
-  auto writeJobs = [&] {
-    std::ofstream f(jobs.tmp());
-    if (!f) throw std::runtime_error(jobs_file + ": cannot open for writing");
-    f << script;
-    errno = 0;
-    f.close();
-    if (!f)
-      throw std::runtime_error(jobs_file + ": write failed (" +
-                               (errno ? std::strerror(errno) : "disk full?") + ")");
-  };
-  auto folder = [](fs::path p) {
-    p = fs::absolute(p.empty() ? "." : p).lexically_normal();
-    if (p.filename().empty()) p = p.parent_path();  // a trailing '/'
-    std::error_code ec;
-    const fs::path real = fs::weakly_canonical(p, ec);
-    return ec ? p : real;
-  };
-  const bool in_out_dir = folder(fs::path(jobs_file).parent_path()) == folder(plan.options.out_dir);
-  const bool written_first = !in_out_dir || isDirectory(plan.options.out_dir);
+  auto writeJobs = [&] { jobs.write([&](std::ostream& os) { os << script; }); };
+  std::string jobs_dir = fs::path(jobs_file).parent_path().string();
+  if (jobs_dir.empty()) jobs_dir = ".";
+  const std::string& out = plan.options.out_dir;
+  const bool in_out_dir = isInsideFolder(jobs_dir, out) && isInsideFolder(out, jobs_dir);
+  const bool written_first = !in_out_dir || isDirectory(out);
   if (written_first) writeJobs();
   writeBenchPlan(plan);
   if (!written_first) writeJobs();

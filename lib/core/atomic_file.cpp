@@ -45,18 +45,20 @@ void AtomicPath::commit() {
 void writeFileAtomically(const std::string& path, const std::function<void(std::ostream&)>& writer,
                          bool binary) {
   AtomicPath out(path);
-  {
-    std::ofstream f(out.tmp(), binary ? std::ios::binary : std::ios::out);
-    if (!f) throw std::runtime_error(path + ": cannot open for writing");
-    writer(f);
-    errno = 0;
-    f.close();  // flushes: a full disk shows here, not in the writes
-    if (!f) {
-      const std::string why = errno ? std::strerror(errno) : "disk full?";
-      throw std::runtime_error(path + ": write failed (" + why + ")");
-    }
-  }
+  out.write(writer, binary);
   out.commit();
+}
+
+void AtomicPath::write(const std::function<void(std::ostream&)>& writer, bool binary) const {
+  std::ofstream f(tmp_, binary ? std::ios::binary : std::ios::out);
+  if (!f) throw std::runtime_error(final_ + ": cannot open for writing");
+  writer(f);
+  errno = 0;
+  f.close();  // flushes: a full disk shows here, not in the writes
+  if (!f) {
+    const std::string why = errno ? std::strerror(errno) : "disk full?";
+    throw std::runtime_error(final_ + ": write failed (" + why + ")");
+  }
 }
 
 bool fileExists(const std::string& path) {

@@ -20,6 +20,9 @@ class AtomicPath {
 
   /// Where the writer should write.
   const std::string& tmp() const { return tmp_; }
+  /// Writes tmp() through a stream callback (not yet committed); throws
+  /// std::runtime_error naming the final path if it cannot be written.
+  void write(const std::function<void(std::ostream&)>& writer, bool binary = false) const;
   const std::string& finalPath() const { return final_; }
   /// Renames tmp() onto the final path; throws std::runtime_error on failure.
   void commit();
