@@ -53,26 +53,20 @@ ChildResult runChildProcess(const std::vector<std::string>& argv, const std::str
 
   int status = 0;
   pid_t waited;
-  if (!interrupt) {
-    do {
-      waited = waitpid(pid, &status, 0);
-    } while (waited < 0 && errno == EINTR);
-  } else {
-    using Clock = std::chrono::steady_clock;
-    constexpr auto kPoll = std::chrono::milliseconds(20);
-    constexpr auto kForwardAfter = std::chrono::milliseconds(200);
-    std::optional<Clock::time_point> interrupted_at;
-    bool forwarded = false;
-    while ((waited = waitpid(pid, &status, WNOHANG)) == 0 || (waited < 0 && errno == EINTR)) {
-      if (const int sig = forwarded ? 0 : interrupt()) {
-        if (!interrupted_at) interrupted_at = Clock::now();
-        if (Clock::now() - *interrupted_at >= kForwardAfter) {
-          forwardInterrupt(pid, sig);
-          forwarded = true;
-        }
+  using Clock = std::chrono::steady_clock;
+  constexpr auto kPoll = std::chrono::milliseconds(20);
+  constexpr auto kForwardAfter = std::chrono::milliseconds(200);
+  std::optional<Clock::time_point> interrupted_at;
+  bool forwarded = false;
+  while ((waited = waitpid(pid, &status, WNOHANG)) == 0 || (waited < 0 && errno == EINTR)) {
+    if (const int sig = forwarded ? 0 : interrupt()) {
+      if (!interrupted_at) interrupted_at = Clock::now();
+      if (Clock::now() - *interrupted_at >= kForwardAfter) {
+        forwardInterrupt(pid, sig);
+        forwarded = true;
       }
-      std::this_thread::sleep_for(kPoll);
     }
+    std::this_thread::sleep_for(kPoll);
   }
   if (waited < 0) throw std::runtime_error("waitpid on " + argv[0] + ": " + std::strerror(errno));
 

@@ -23,13 +23,13 @@ struct ChildResult {
 
 /// Starts argv[0] with argv (no shell, no PATH search), stdout and stderr
 /// both appended to log_path (created or truncated), and waits for it.
-/// `interrupt`, when given, is polled meanwhile: once it returns a signal
+/// `interrupt` is polled meanwhile: once it returns a signal
 /// number, that signal is forwarded (forwardInterrupt) to the child if it is
 /// still running a moment later; the moment lets a signal sent to the whole
 /// process group reach the child first. Throws std::runtime_error if the
 /// program cannot be started.
 ChildResult runChildProcess(const std::vector<std::string>& argv, const std::string& log_path,
-                            const std::function<int()>& interrupt = {});
+                            const std::function<int()>& interrupt);
 
 /// The last `max_lines` non-empty lines of a text file ("" if unreadable):
 /// what a failed run printed, for the report.
