@@ -65,37 +65,15 @@ ConfigSection ConfigSection::sub(const std::string& key) {
   return ConfigSection(node_[key], file_, section_.empty() ? key : section_ + "." + key);
 }
 
-namespace {
-/// The line of `path` that holds the dotted key ("orb.n_features"), by the
-/// block layout's indentation; 0 if none does (flow style, for one).
-std::size_t lineOfKey(const std::string& path, const std::string& dotted) {
-  std::ifstream in(path);
-  std::vector<std::pair<std::size_t, std::string>> open;  // indentation, key
-  std::size_t n = 0;
-  for (std::string line; std::getline(in, line);) {
-    ++n;
-    const auto b = line.find_first_not_of(' ');
-    if (b == std::string::npos || line[b] == '#') continue;
-    const auto colon = line.find(':', b);
-    if (colon == std::string::npos) continue;
-    auto e = line.find_last_not_of(" \t", colon - 1);
-    std::string key = line.substr(b, e == std::string::npos ? 0 : e - b + 1);
-    if (key.size() >= 2 && (key.front() == '"' || key.front() == '\'') && key.back() == key.front())
-      key = key.substr(1, key.size() - 2);
-    while (!open.empty() && open.back().first >= b) open.pop_back();
-    open.emplace_back(b, key);
-    std::string path_here;
-    for (const auto& [indent, k] : open) path_here += (path_here.empty() ? "" : ".") + k;
-    if (path_here == dotted) return n;
-  }
-  return 0;
+void ConfigSection::failAt(const std::string& dotted_key, const std::string& message) const {
+  std::ifstream text(file_);
+  if (const std::size_t line = findKeyLine(text, dotted_key))
+    throw InputError(file_, line, message);
+  throw InputError(file_, message);
 }
-}  // namespace
 
 void ConfigSection::failValue(const std::string& where) const {
-  if (const std::size_t line = lineOfKey(file_, where))
-    throw InputError(file_, line, where + ": wrong type or value");
-  throw InputError(file_, where + ": wrong type or value");
+  failAt(where, where + ": wrong type or value");
 }
 
 void ConfigSection::rejectUnknownKeys() const {
@@ -103,11 +81,8 @@ void ConfigSection::rejectUnknownKeys() const {
   for (const auto& [k, v] : node_.asMap()) {
     const std::string key = k.as<std::string>();
     if (known_.count(key)) continue;
-    const std::string message =
-        "unknown parameter '" + (section_.empty() ? key : section_ + "." + key) + "'";
-    if (const std::size_t line = lineOfKey(file_, section_.empty() ? key : section_ + "." + key))
-      throw InputError(file_, line, message);
-    throw InputError(file_, message);
+    const std::string dotted = section_.empty() ? key : section_ + "." + key;
+    failAt(dotted, "unknown parameter '" + dotted + "'");
   }
 }
 
@@ -146,12 +121,14 @@ bool isEmptyLine(const std::string& line) {
   return b == std::string::npos || line[b] == '#';
 }
 
-/// Two things MRPT's YAML reader cannot take, dealt with before it reads the
-/// text (line numbers unchanged). A key with nothing after it and nothing
+/// What MRPT's YAML reader cannot take, dealt with before it reads the text
+/// (line numbers unchanged). A key with nothing after it and nothing
 /// indented under it (a section whose keys are all commented out) is null in
 /// YAML, but MRPT rejects it as an "unexpected empty scalar": it gets an
-/// explicit null, "~". Flow collections nested deeper than any config needs
-/// ('[' x 30000) overflow the reader's recursion: an error naming the line.
+/// explicit null, "~". Errors naming the file (and line): NUL bytes (a binary
+/// file), a second document (MRPT reads the first only), a tab in the
+/// indentation, anchors and aliases (MRPT asserts), and flow collections
+/// nested deeper than any config needs ('[' x 30000 overflows its recursion).
 std::string prepareYamlText(const std::string& path, const std::string& text) {
   std::vector<std::string> lines;
   for (std::size_t b = 0; b <= text.size();) {

@@ -64,6 +64,8 @@ class ConfigSection {
   ConfigSection& readList(const std::string& key, std::vector<std::string>& value);
   /// Throws InputError(file[:line], "where: wrong type or value").
   [[noreturn]] void failValue(const std::string& where) const;
+  /// Throws InputError(file[:line of dotted_key], message).
+  [[noreturn]] void failAt(const std::string& dotted_key, const std::string& message) const;
   /// Sub-section (missing = empty).
   ConfigSection sub(const std::string& key);
   bool has(const std::string& key) const;

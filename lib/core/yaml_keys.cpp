@@ -1,6 +1,7 @@
 #include "core/yaml_keys.h"
 
 #include <map>
+#include <utility>
 #include <vector>
 
 namespace dynslam {
@@ -78,6 +79,25 @@ DuplicateKey findDuplicateKey(std::istream& in) {
     if (opensBlockScalar(line)) block_scalar_indent = indent;
   }
   return {};
+}
+
+std::size_t findKeyLine(std::istream& in, const std::string& dotted_key) {
+  std::vector<std::pair<std::size_t, std::string>> open;  // indentation, key
+  std::size_t line_no = 0;
+  for (std::string line; std::getline(in, line);) {
+    ++line_no;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    const std::size_t indent = line.find_first_not_of(' ');
+    if (indent == std::string::npos || line[indent] == '#') continue;
+    std::string key = plainKey(line, indent);
+    if (key.empty()) continue;
+    while (!open.empty() && open.back().first >= indent) open.pop_back();
+    open.emplace_back(indent, std::move(key));
+    std::string here;
+    for (const auto& [i, k] : open) here += (here.empty() ? "" : ".") + k;
+    if (here == dotted_key) return line_no;
+  }
+  return 0;
 }
 
 }  // namespace dynslam

@@ -18,4 +18,10 @@ struct DuplicateKey {
 /// mappings `{a: 1}` and block scalars are not looked into). line 0: none.
 DuplicateKey findDuplicateKey(std::istream& yaml_text);
 
+/// The 1-based line that holds the dotted key ("orb.n_features"), by the
+/// block layout's indentation, so that the same key in another section is
+/// not taken; 0 if no line does (flow mappings are not looked into). Errors
+/// about a key's value name it.
+std::size_t findKeyLine(std::istream& yaml_text, const std::string& dotted_key);
+
 }  // namespace dynslam

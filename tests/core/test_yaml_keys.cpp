@@ -33,6 +33,23 @@ TEST(YamlKeys, AQuotedKeyIsTheSameKey) {
   EXPECT_EQ(scan("a:\n  \"x: y\": 1\n  x: 2\n").line, 0u);
 }
 
+// The line of a dotted key, by the block layout: the same key name in
+// another section (and a longer key starting the same) is not taken.
+TEST(YamlKeys, FindsTheLineOfADottedKey) {
+  const std::string text =
+      "pose_optimizer:\n  chi2_mono: 5\n# c\nlocal_mapper:\n  chi2_mono_x: 1\n"
+      "  bundle_adjustment:\n    chi2_mono: 6\n  \"ba_window\": 3\n";
+  auto line = [&](const std::string& key) {
+    std::istringstream in(text);
+    return dynslam::findKeyLine(in, key);
+  };
+  EXPECT_EQ(line("pose_optimizer.chi2_mono"), 2u);
+  EXPECT_EQ(line("local_mapper.bundle_adjustment.chi2_mono"), 7u);
+  EXPECT_EQ(line("local_mapper.ba_window"), 8u);
+  EXPECT_EQ(line("local_mapper.chi2_mono"), 0u);
+  EXPECT_EQ(line("orb"), 0u);
+}
+
 TEST(YamlKeys, FindsARepeatedSection) {
   EXPECT_EQ(scan("a:\n  x: 1\nb: 2\na:\n  y: 1\n").line, 4u);
 }
