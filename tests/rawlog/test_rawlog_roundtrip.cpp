@@ -5,6 +5,7 @@
 
 #include <mrpt/io/CFileGZInputStream.h>
 #include <mrpt/io/CFileGZOutputStream.h>
+#include <mrpt/io/CFileOutputStream.h>
 #include <mrpt/obs/CObservation3DRangeScan.h>
 #include <mrpt/obs/CObservationOdometry.h>
 #include <mrpt/serialization/CArchive.h>
@@ -15,6 +16,7 @@
 
 #include "core/errors.h"
 #include "fake_sequence.h"
+#include "rawlog/rawlog_contents.h"
 #include "rawlog/rawlog_layout.h"
 #include "rawlog/rawlog_source.h"
 #include "rawlog/sequence_source.h"
@@ -233,6 +235,43 @@ TEST(RawlogSource, EmbeddedImagesAlsoWork) {
   EXPECT_TRUE(sameMat(f.rgb, s.rgb[0]));
   EXPECT_TRUE(sameMat(f.depth, s.depth[0]));
   EXPECT_NEAR(f.timestamp, 1305031229.25, 1e-6);
+}
+
+// MRPT's reader sizes an embedded range image from the rows and columns in
+// the stream without a check: a corrupt size made it write past its buffer
+// (a segfault inside MRPT, found by fuzzing an uncompressed rawlog). Known
+// data: a 48 x 64 scan whose size is found in the file's bytes and replaced.
+TEST(RawlogSource, CorruptRangeImageSizeNamesTheObject) {
+  TempDir d;
+  const FakeSequence s = makeFakeSequence(d.path(), 1);
+  auto scan = mrpt::obs::CObservation3DRangeScan::Create();
+  scan->hasRangeImage = true;
+  scan->rangeImage_setSize(48, 64);
+  scan->rangeImage.setZero();
+  scan->cameraParams.ncols = 64;
+  scan->cameraParams.nrows = 48;
+  auto odo = mrpt::obs::CObservationOdometry::Create();
+  const std::string plain = d / "p.rawlog";
+  {
+    mrpt::io::CFileOutputStream f(plain);  // uncompressed: no checksum guards it
+    auto a = mrpt::serialization::archiveFrom(f);
+    a << *odo << *scan;
+  }
+  std::string bytes = readText(plain);
+  const std::string size_48x64("\x30\0\0\0\x40\0\0\0", 8);
+  const std::size_t at = bytes.find(size_48x64);
+  ASSERT_NE(at, std::string::npos);
+  // (the image's zero depths follow its size; the camera's size comes later)
+  ASSERT_EQ(bytes.substr(at + 8, 48 * 64 * 2), std::string(48 * 64 * 2, '\0'));
+  EXPECT_NO_THROW(RawlogContents{plain}) << "the file as written reads";
+  for (const uint32_t rows : {0xffffffffu, 0x7fffffffu, 0x80000000u}) {
+    std::string broken = bytes;
+    for (int k = 0; k < 4; ++k) broken[at + k] = static_cast<char>((rows >> (8 * k)) & 0xff);
+    writeText(plain, broken);
+    const std::string m = errorOf([&] { RawlogContents{plain}; });
+    EXPECT_TRUE(contains(m, plain)) << m;
+    EXPECT_TRUE(contains(m, "object #2")) << m;
+  }
 }
 
 TEST(RawlogSource, MissingOrNotARawlog) {
