@@ -118,8 +118,6 @@ int benchMain(int argc, char** argv) {
                        std::to_string(max_frames_arg.getValue()));
     if (emit_arg.isSet() && (jobs_arg.isSet() || plots_arg.isSet()))
       throw UsageError("--emit-jobs runs nothing: no --jobs or --plots (give them to --collect)");
-    if (emit_arg.isSet() && emit_arg.getValue().empty())
-      throw UsageError("--emit-jobs needs a file");
     BenchOptions o;
     o.sequences = seq_arg.getValue();
     o.modes = splitList(modes_arg.getValue());
@@ -134,6 +132,9 @@ int benchMain(int argc, char** argv) {
       if (isInsideFolder(seq, o.out_dir))
         throw UsageError("-o " + o.out_dir + ": the output folder must not hold the sequence " +
                          seq);
+    // Runs and reports are added to an earlier benchmark's folder, never to
+    // someone else's (`run` refuses the same).
+    checkOutputFolder(o.out_dir, {kBenchPlanFile});
     o.dynslam_binary = self;
     o.jobs = jobs_arg.getValue();
     std::unique_ptr<BenchRunner> runner;

@@ -48,6 +48,23 @@ class ArgumentOutput : public TCLAP::StdOutput {
   }
   bool failed = false;
 };
+
+/// TCLAP takes an empty value (`--voxel ''`) as the option's default, so a
+/// mistyped shell variable went unnoticed (found by fuzzing): an empty
+/// argument is a usage error, naming the option it was given to.
+void refuseEmptyArguments(TCLAP::CmdLine& cmd, int argc, char** argv) {
+  for (int i = 1; i < argc; ++i) {
+    if (argv[i][0] != '\0') continue;
+    const std::string before = argv[i - 1];
+    for (TCLAP::Arg* a : cmd.getArgList()) {
+      const std::string flag = a->getFlag().empty() ? "" : "-" + a->getFlag();
+      const std::string name = "--" + a->getName();
+      if (before == name || (!flag.empty() && before == flag))
+        throw UsageError((flag.empty() ? "" : flag + "/") + name + ": an empty value");
+    }
+    throw UsageError("argument " + std::to_string(i) + " (after the command) is empty");
+  }
+}
 }  // namespace
 
 bool parseArguments(TCLAP::CmdLine& cmd, int argc, char** argv, int& exit_code) {
@@ -69,6 +86,7 @@ bool parseArguments(TCLAP::CmdLine& cmd, int argc, char** argv, int& exit_code) 
       "per frame: tracking, matching, the dynamic filter)",
       false, logLevelName(LogLevel::kInfo), &level_values));
   cmd.add(*level_args.back());
+  refuseEmptyArguments(cmd, argc, argv);
   ArgumentOutput output;
   cmd.setOutput(&output);
   const bool ok = cmd.parse(argc, argv);

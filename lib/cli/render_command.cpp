@@ -120,9 +120,16 @@ int renderMain(int argc, char** argv) {
     throw UsageError(e.what());
   }
 
-  MapData map = isOctoMapPath(map_arg.getValue())
-                    ? occupiedCellsAsMap(*readOctoMapFile(map_arg.getValue()), map_arg.getValue())
-                    : readMapFile(map_arg.getValue());
+  const std::string& path = map_arg.getValue();
+  if (!isOctoMapPath(path)) {
+    try {
+      mapFormatFromPath(path);
+    } catch (const InputError&) {  // its advice leaves out the OctoMap that render also reads
+      throw InputError(path, "unknown map format (use a .ply, .glb or .bt extension)");
+    }
+  }
+  MapData map = isOctoMapPath(path) ? occupiedCellsAsMap(*readOctoMapFile(path), path)
+                                    : readMapFile(path);
   if (traj_arg.isSet()) map.keyframes = readTumTrajectory(traj_arg.getValue());
 
   std::string up_note = "given";

@@ -80,7 +80,6 @@ int runMain(int argc, char** argv) {
 
   RunOptions o;
   o.input = input.getValue();
-  if (out.getValue().empty()) throw UsageError("-o/--out: empty folder name");
   o.out_dir = out.getValue();
   o.config_path = config.getValue();
   o.camera_config = camera.getValue();
@@ -90,7 +89,6 @@ int runMain(int argc, char** argv) {
   if (localize.getValue() && !map.isSet()) throw UsageError("--localize needs --map MAP.dsm");
   if (localize.getValue() && save_map.getValue())
     throw UsageError("--save-map with --localize: localisation does not change the map");
-  if (map.isSet() && map.getValue().empty()) throw UsageError("--map: empty file name");
   o.map_path = map.getValue();
   o.localize = localize.getValue();
   o.save_map = save_map.getValue();

@@ -9,8 +9,9 @@ namespace dynslam {
 /// The most informative single line of an exception message from MRPT.
 std::string oneLineMessage(const std::string& what);
 
-/// `line` safe to print on a terminal: control bytes (a message that quotes
-/// a binary file's bytes) as \xNN, and at most `max_chars` characters.
+/// `line` safe to print on a terminal: control bytes and bytes that are not
+/// UTF-8 (a message that quotes a binary file's bytes) as \xNN, and at most
+/// `max_chars` characters.
 std::string printableLine(const std::string& line, std::size_t max_chars = 2000);
 
 }  // namespace dynslam

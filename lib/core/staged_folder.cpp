@@ -65,6 +65,22 @@ bool isInsideFolder(const std::string& path, const std::string& folder) {
   return hasPrefix(p, f) || hasPrefix(fs::weakly_canonical(p, ec), fs::weakly_canonical(f, ec));
 }
 
+void checkOutputFolder(const std::string& dir, const std::vector<std::string>& markers) {
+  std::error_code ec;
+  const fs::path f(dir);
+  if (!fs::exists(f, ec)) return;
+  if (!fs::is_directory(f, ec)) throw InputError(dir, "exists and is not a folder");
+  // An earlier output has every marker file (one of them alone is any
+  // project's report.json: replacing that folder deleted it, found by
+  // fuzzing).
+  bool empty = fs::is_empty(f, ec), ours = !markers.empty();
+  for (const auto& m : markers) ours = ours && fs::is_regular_file(f / m, ec);
+  if (!empty && !ours)
+    throw InputError(dir,
+                     "folder is not empty and holds no earlier output to replace; "
+                     "choose an empty or new folder");
+}
+
 StagedFolder::StagedFolder(std::string final_dir, const std::vector<std::string>& markers) {
   fs::path f(final_dir);
   if (f.filename().empty()) f = f.parent_path();  // "out/" -> "out"
@@ -73,18 +89,7 @@ StagedFolder::StagedFolder(std::string final_dir, const std::vector<std::string>
   // (replacing the link would leave the old run where the link pointed).
   if (fs::is_symlink(f, ec) && fs::is_directory(f, ec)) f = fs::canonical(f, ec);
   final_ = f.string();
-  if (fs::exists(f, ec)) {
-    if (!fs::is_directory(f, ec)) throw InputError(final_, "exists and is not a folder");
-    // An earlier output has every marker file (one of them alone is any
-    // project's report.json: replacing that folder deleted it, found by
-    // fuzzing).
-    bool empty = fs::is_empty(f, ec), ours = !markers.empty();
-    for (const auto& m : markers) ours = ours && fs::is_regular_file(f / m, ec);
-    if (!empty && !ours)
-      throw InputError(final_,
-                       "folder is not empty and holds no earlier output to replace; "
-                       "choose an empty or new folder");
-  }
+  checkOutputFolder(final_, markers);
   const fs::path parent = f.parent_path().empty() ? fs::path(".") : f.parent_path();
   fs::create_directories(parent, ec);
   if (ec || !fs::is_directory(parent)) throw InputError(parent.string(), "cannot create folder");

@@ -13,12 +13,15 @@ namespace dynslam {
 /// or with links resolved.
 bool isInsideFolder(const std::string& path, const std::string& folder);
 
+/// Throws InputError(dir) when dir is a file, or a non-empty folder that
+/// does not hold every one of `markers` (the files an earlier output of the
+/// same kind has): writing there would mix with, or delete, someone's data.
+void checkOutputFolder(const std::string& dir, const std::vector<std::string>& markers);
+
 class StagedFolder {
  public:
-  /// Throws InputError(final_dir) when final_dir is a file, or a non-empty
-  /// folder that does not hold every one of `markers` (the files an earlier
-  /// output of the same kind has): replacing it would delete someone's data. Creates the
-  /// staging folder; removes stale ones that killed processes left.
+  /// Throws InputError(final_dir) as checkOutputFolder. Creates the staging
+  /// folder; removes stale ones that killed processes left.
   StagedFolder(std::string final_dir, const std::vector<std::string>& markers);
   /// Removes the staging folder unless committed.
   ~StagedFolder();

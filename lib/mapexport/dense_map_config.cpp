@@ -35,6 +35,8 @@ void validateDenseMapOptions(const DenseMapOptions& o, const std::string& source
   if (o.voxel_leaf > 0 && o.voxel_leaf < 1e-4) {
     throw InputError(source, "map_export: voxel_leaf below 0.1 mm makes no sense for RGB-D");
   }
+  // A leaf larger than a room leaves a handful of points (1e300 m: one).
+  if (o.voxel_leaf > 1.0) throw InputError(source, "map_export: voxel_leaf must be at most 1 m");
   if (o.outlier_neighbours < 1) {
     throw InputError(source, "map_export: outlier_neighbours must be >= 1");
   }

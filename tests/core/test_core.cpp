@@ -300,4 +300,11 @@ TEST(Messages, PrintableLineEscapesControlBytesAndCapsTheLength) {
   EXPECT_EQ(printableLine("caf\xc3\xa9.png: not found"), "caf\xc3\xa9.png: not found");
   EXPECT_EQ(printableLine(std::string(10, 'a'), 4), "aaaa...");
   EXPECT_EQ(printableLine(std::string("a\0b", 3)), "a\\x00b");
+  // Bytes that are not UTF-8 (a rawlog of random bytes quoted as a class
+  // name reached the terminal raw, found by fuzzing): a lone continuation
+  // byte, a lead byte without its continuation, an invalid lead byte.
+  EXPECT_EQ(printableLine("class '\xdc' x"), "class '\\xdc' x");
+  EXPECT_EQ(printableLine("a\xc3(b"), "a\\xc3(b");
+  EXPECT_EQ(printableLine("\xff\xfe"), "\\xff\\xfe");
+  EXPECT_EQ(printableLine("\xe2\x82\xac and \xf0\x9f\x99\x82"), "\xe2\x82\xac and \xf0\x9f\x99\x82");
 }

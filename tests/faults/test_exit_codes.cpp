@@ -86,6 +86,25 @@ TEST(ExitCodes, OutputsThatWouldOverwriteInputs) {
   EXPECT_FALSE(fs::exists(d / "out"));
 }
 
+// Found by fuzzing: TCLAP took an empty value as the option's default, so
+// `--voxel ''` exported with the default leaf, exit 0; and a 1e300 m leaf
+// wrote a one-point map.
+TEST(ExitCodes, EmptyValuesAndAVoxelLargerThanARoom) {
+  TempDir d;
+  const MiniTum tum = makeMiniTum(d.path(), 2);
+  expectUsageError({"export", d / "run", "-o", d / "m.ply", "--voxel", ""}, "--voxel: an empty value");
+  expectUsageError({"export", d / "run", "-o", d / "m.ply", "--stride", ""}, "--stride");
+  expectUsageError({"export", d / "run", "-o", d / "m.bt", "--resolution", ""}, "--resolution");
+  expectUsageError({"run", tum.dir, "-o", d / "out", "--max-frames", ""}, "--max-frames");
+  expectUsageError({"run", "", "-o", d / "out"}, "argument 1 (after the command) is empty");
+  expectUsageError({"bench", tum.dir, "-o", d / "b", "--emit-jobs", ""}, "--emit-jobs");
+  expectUsageError({"export", d / "run", "-o", d / "m.ply", "--voxel", "1e300"}, "voxel_leaf");
+  expectUsageError({"export", d / "run", "-o", d / "m.ply", "--voxel", "1.5"}, "voxel_leaf");
+  EXPECT_FALSE(fs::exists(d / "run"));
+  EXPECT_FALSE(fs::exists(d / "out"));
+  EXPECT_FALSE(fs::exists(d / "b"));
+}
+
 TEST(ExitCodes, BenchMaxFramesNegative) {
   TempDir d;
   expectUsageError({"bench", d / "seq", "--max-frames", "-1", "-o", d / "b"}, "--max-frames");
@@ -97,4 +116,25 @@ TEST(ExitCodes, MissingInputIsExit1) {
   TempDir d;
   const SplitCommandResult r = runDynslamSplit({"render", d / "none.ply", "-o", d / "a.png"});
   expectHandledFault(r, 1, d / "none.ply");
+}
+
+// `bench -o` into a folder of other files wrote its runs among them (found by
+// fuzzing; `run -o` refuses the same): refused, the folder kept as it was.
+// An earlier benchmark's folder (its plan file) is still written into.
+TEST(ExitCodes, BenchIntoAFolderOfOtherFilesIsRefused) {
+  TempDir d;
+  const MiniTum tum = makeMiniTum(d.path(), 2);
+  fs::create_directories(d / "notes");
+  writeText(d / "notes/todo.txt", "keep me");
+  const SplitCommandResult r = runDynslamSplit({"bench", tum.dir, "-o", d / "notes"});
+  expectHandledFault(r, 1, d / "notes");
+  EXPECT_EQ(entriesIn(d / "notes"), std::vector<std::string>{"todo.txt"});
+  EXPECT_EQ(readText(d / "notes/todo.txt"), "keep me");
+  // The control: a benchmark's own folder (--emit-jobs writes the plan and
+  // runs nothing) takes a second benchmark.
+  for (const char* jobs : {"jobs1.txt", "jobs2.txt"}) {
+    const SplitCommandResult again =
+        runDynslamSplit({"bench", tum.dir, "-o", d / "b", "--emit-jobs", d / jobs});
+    EXPECT_EQ(again.exit_code, 0) << again.err;
+  }
 }

@@ -139,3 +139,12 @@ TEST_F(RenderBadPly, HugeCoordinate) {
   s.points[10][0] = 1e30f;
   expectRejected(s);
 }
+
+// The advice lists every format render reads (it left out .bt, found by fuzzing).
+TEST_F(RenderBadPly, UnknownExtensionNamesEveryFormat) {
+  writeText(dir / "map.xyz", "0 0 0\n");
+  const SplitCommandResult r = runDynslamSplit({"render", dir / "map.xyz", "-o", dir / "out.png"});
+  expectHandledFault(r, 1, dir / "map.xyz");
+  EXPECT_NE(r.err.find(".ply, .glb or .bt"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "out.png"));
+}

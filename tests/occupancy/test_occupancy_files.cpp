@@ -113,6 +113,29 @@ TEST(OctoMapFile, BadFilesNameThePath) {
   EXPECT_THROW(writeOctoMapFile(d / "file/room.bt", roomMap().tree()), std::runtime_error);
 }
 
+// A .bt cut short read without a word (OctoMap does not check its last
+// reads; found by fuzzing): every cut of the room's file is refused, and
+// the whole file still reads.
+TEST(OctoMapFile, AFileCutShortIsRefused) {
+  TempDir d;
+  writeOctoMapFile(d / "room.bt", roomMap().tree());
+  const std::string whole = dynslam::test::readText(d / "room.bt");
+  const std::size_t data = whole.find("data\n") + 5;
+  ASSERT_LT(data, whole.size());
+  for (const std::size_t cut : {std::size_t(1), std::size_t(2), (whole.size() - data) / 2}) {
+    writeText(d / "cut.bt", whole.substr(0, whole.size() - cut));
+    try {
+      readOctoMapFile(d / "cut.bt");
+      ADD_FAILURE() << "cut by " << cut << " bytes";
+    } catch (const InputError& e) {
+      EXPECT_TRUE(contains(e.what(), "cut.bt")) << e.what();
+    }
+  }
+  writeText(d / "cut.bt", whole);
+  EXPECT_EQ(occupiedCells(*readOctoMapFile(d / "cut.bt")).size(),
+            occupiedCells(roomMap().tree()).size());
+}
+
 TEST(MapServerFiles, PgmAndYamlAsMapServerReadsThem) {
   TempDir d;
   OccupancyGrid2D g;
