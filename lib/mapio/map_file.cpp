@@ -311,7 +311,9 @@ void checkHeader(const std::string& path, const std::string& bytes) {
   if (header_bytes != kMapHeaderBytes) throw InputError(path, "corrupt map file header");
   if (bytes.size() - kMapHeaderBytes < payload)
     throw InputError(path, "truncated map file: " + std::to_string(bytes.size()) +
-                               " bytes, expected " + std::to_string(kMapHeaderBytes + payload));
+                               " bytes, its header announces " + std::to_string(payload) +
+                               " bytes after the " + std::to_string(kMapHeaderBytes) +
+                               "-byte header");
   if (bytes.size() - kMapHeaderBytes > payload)
     throw InputError(
         path, "corrupt map file: " + std::to_string(bytes.size() - kMapHeaderBytes - payload) +

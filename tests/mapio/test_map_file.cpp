@@ -207,6 +207,13 @@ TEST_F(MapFile, RejectsTruncatedFiles) {
   }
   writeBytes(path, "");
   EXPECT_NE(loadError(path).find("not a dynslam map"), std::string::npos);
+  // A payload size near 2^64 in the header: the size it announces, not a
+  // wrapped-around sum (it said "expected 16", found by fuzzing).
+  std::string huge = bytes;
+  for (int k = 0; k < 8; ++k) huge[16 + k] = static_cast<char>(k == 0 ? 0xf0 : 0xff);
+  writeBytes(path, huge);
+  const std::string m = loadError(path);
+  EXPECT_NE(m.find("announces 18446744073709551600 bytes"), std::string::npos) << m;
 }
 
 TEST_F(MapFile, RejectsCorruptedPayload) {
