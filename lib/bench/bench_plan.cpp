@@ -140,6 +140,9 @@ void writeBenchPlan(const BenchPlan& plan) {
       c.orb.n_features = int(std::lround(base.orb.n_features * f));
       if (base.dynamic.orb_features > 0)
         c.dynamic.orb_features = int(std::lround(base.dynamic.orb_features * f));
+      // A budget at its bound scales past it: said now, not by the runs.
+      validateSlamConfig(c, (o.config.empty() ? defaultSlamConfigPath() : o.config) +
+                                " scaled by --spread for run " + std::to_string(run));
       spread_yaml.push_back(slamConfigYaml(c));
     }
   }

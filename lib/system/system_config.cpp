@@ -25,7 +25,8 @@ std::string formatNumber(T value) {
   return s.str();
 }
 
-/// Range checks across keys; throws InputError(path) naming the section.
+}  // namespace
+
 void validateSlamConfig(const SlamConfig& c, const std::string& path) {
   if (c.orb.n_features < 50 || c.orb.n_levels < 1 || !(c.orb.scale_factor > 1.0f))
     throw InputError(path, "orb: n_features >= 50, n_levels >= 1, scale_factor > 1 required");
@@ -87,6 +88,8 @@ void validateSlamConfig(const SlamConfig& c, const std::string& path) {
   validateDenseMapOptions(c.map_export, path);
   validateOccupancyOptions(c.occupancy_map, path);
 }
+
+namespace {
 
 /// Every number in the config is a count, a size, a threshold or a weight:
 /// negative values mean nothing (and ran without a word, or hung). The one

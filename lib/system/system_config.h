@@ -71,6 +71,11 @@ struct SlamConfig {
 /// resolved against the file's folder, an empty vocabulary to the shipped one.
 SlamConfig loadSlamConfig(const std::string& path);
 
+/// The range checks across keys that loadSlamConfig makes; throws
+/// InputError(source) naming the section. For configs made in code (bench
+/// --spread scales the keypoint budgets of a loaded one).
+void validateSlamConfig(const SlamConfig& config, const std::string& source);
+
 /// The whole config as YAML, every key of every section with its value
 /// (paths as resolved): loadSlamConfig of this text gives `config` back.
 /// What `dynslam run` writes as config_used.yaml.

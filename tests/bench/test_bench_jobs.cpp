@@ -179,6 +179,23 @@ TEST(BenchJobs, SpreadRunsScaleTheKeypointBudgets) {
   o.spread = false;
   EXPECT_EQ(configArgument(makeBenchPlan(o).runs[0].argv),
             fs::absolute(o.config).lexically_normal().string());
+
+  // A budget at its lower bound (50, which the config allows) scales under
+  // it: the plan is refused naming the config and the run, and nothing is
+  // written (the runs failed one by one, naming a generated file).
+  test::writeText(tmp / "low.yaml", "orb:\n  n_features: 50\n");
+  o.config = tmp / "low.yaml";
+  o.out_dir = tmp / "low";
+  o.spread = true;
+  try {
+    writeBenchPlan(makeBenchPlan(o));
+    ADD_FAILURE() << "a budget scaled under 50 was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("low.yaml scaled by --spread for run 1"),
+              std::string::npos)
+        << e.what();
+  }
+  EXPECT_FALSE(fs::exists(o.out_dir));
 }
 
 // Ctrl-C in a terminal reaches the bench and its runs (one process group);
