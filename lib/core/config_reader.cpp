@@ -65,11 +65,15 @@ ConfigSection ConfigSection::sub(const std::string& key) {
   return ConfigSection(node_[key], file_, section_.empty() ? key : section_ + "." + key);
 }
 
+void failAtKey(const std::string& file, const std::string& dotted_key,
+               const std::string& message) {
+  std::ifstream text(file);
+  if (const std::size_t line = findKeyLine(text, dotted_key)) throw InputError(file, line, message);
+  throw InputError(file, message);
+}
+
 void ConfigSection::failAt(const std::string& dotted_key, const std::string& message) const {
-  std::ifstream text(file_);
-  if (const std::size_t line = findKeyLine(text, dotted_key))
-    throw InputError(file_, line, message);
-  throw InputError(file_, message);
+  failAtKey(file_, dotted_key, message);
 }
 
 void ConfigSection::failValue(const std::string& where) const {

@@ -24,6 +24,12 @@ double parseConfigNumber(const std::string& text);
 /// The text of a scalar node (numbers as written in the file).
 std::string scalarText(const mrpt::containers::yaml& node);
 
+/// Throws InputError(file:LINE, message) with the line that sets
+/// `dotted_key` ("orb.n_features") in the YAML file, or InputError(file,
+/// message) when no line does (a default, or `file` is no file).
+[[noreturn]] void failAtKey(const std::string& file, const std::string& dotted_key,
+                            const std::string& message);
+
 class ConfigSection {
  public:
   /// node may be null/empty (all defaults). `file` and `section` name errors.

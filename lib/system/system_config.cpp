@@ -28,63 +28,65 @@ std::string formatNumber(T value) {
 }  // namespace
 
 void validateSlamConfig(const SlamConfig& c, const std::string& path) {
-  if (c.orb.n_features < 50 || c.orb.n_levels < 1 || !(c.orb.scale_factor > 1.0f))
-    throw InputError(path, "orb: n_features >= 50, n_levels >= 1, scale_factor > 1 required");
-  // Upper bounds: the smallest pyramid level must stay a usable image (OpenCV
-  // asserts on an empty one), and the per-level budgets must stay allocatable.
-  if (c.orb.n_features > 100000 || c.orb.n_levels > 32 || c.orb.scale_factor > 2.0f ||
-      std::pow(double(c.orb.scale_factor), c.orb.n_levels - 1) > 8.0)
-    throw InputError(path,
-                     "orb: n_features <= 100000, n_levels <= 32, scale_factor <= 2 and "
-                     "scale_factor^(n_levels-1) <= 8 required (got n_levels " +
-                         std::to_string(c.orb.n_levels) + ", scale_factor " +
-                         std::to_string(c.orb.scale_factor) + ")");
-  if (c.orb.ini_fast_threshold < 1 || c.orb.ini_fast_threshold > 255 ||
-      c.orb.min_fast_threshold < 1 || c.orb.min_fast_threshold > 255)
-    throw InputError(path, "orb: ini_fast_threshold and min_fast_threshold must be in 1..255");
+  // One rule per key, so the error gives the key's line when the file sets
+  // it (the range checks named only their section, found by fuzzing).
+  const auto require = [&](bool ok, const std::string& key, const std::string& rule) {
+    if (!ok) failAtKey(path, key, key + ": " + rule + " required");
+  };
+  const OrbParams& orb = c.orb;
+  require(orb.n_features >= 50 && orb.n_features <= 100000, "orb.n_features", "50 ... 100000");
+  require(orb.n_levels >= 1 && orb.n_levels <= 32, "orb.n_levels", "1 ... 32");
+  require(orb.scale_factor > 1.0f && orb.scale_factor <= 2.0f, "orb.scale_factor", "> 1 and <= 2");
+  // The smallest pyramid level must stay a usable image (OpenCV asserts on
+  // an empty one).
+  require(std::pow(double(orb.scale_factor), orb.n_levels - 1) <= 8.0, "orb.n_levels",
+          "scale_factor^(n_levels-1) <= 8 (got n_levels " + std::to_string(orb.n_levels) +
+              ", scale_factor " + formatNumber(orb.scale_factor) + ")");
+  require(orb.ini_fast_threshold >= 1 && orb.ini_fast_threshold <= 255, "orb.ini_fast_threshold",
+          "1 ... 255");
+  require(orb.min_fast_threshold >= 1 && orb.min_fast_threshold <= 255, "orb.min_fast_threshold",
+          "1 ... 255");
 
   const DynamicFilterParams& d = c.dynamic;
-  if (d.orb_features != 0 && d.orb_features < 50)
-    throw InputError(path, "dynamic: orb_features must be 0 (keep orb.n_features) or >= 50");
-  if (d.mask_margin_px < 0 || d.max_flow_points < 0 || d.carry_frames < 0 || d.carry_frames > 255 ||
-      !(d.max_map_inliers_flagged > 0) || d.max_map_inliers_flagged > 1 ||
-      d.moved_space.memory_frames < 0)
-    throw InputError(path,
-                     "dynamic: mask_margin_px, max_flow_points, moved_space_frames >= 0, "
-                     "0 <= carry_frames <= 255, 0 < max_map_inliers_flagged <= 1 required");
-  if (d.mask_margin_px > 100 || d.max_flow_points > 100000)
-    throw InputError(path, "dynamic: mask_margin_px <= 100, max_flow_points <= 100000 required");
-  if (d.detector_interval < 1)
-    throw InputError(path, "dynamic.detector: interval_frames >= 1 required");
-  if (c.localisation.detector_interval_frames < 0)
-    throw InputError(path, "localisation: detector_interval_frames >= 0 required");
-  if (c.mapper.ba_lag_frames < 1)
-    throw InputError(path, "local_mapper: ba_lag_frames >= 1 required");
-  if (!(d.box_mask.depth_band_m > 0) || !(d.box_mask.connected_step >= 0) ||
-      d.box_mask.connected_step > 1)
-    throw InputError(path, "dynamic.box_mask: depth_band_m > 0, 0 <= connected_step <= 1 required");
-  if (d.carrier.max_age_frames < 0)
-    throw InputError(path, "dynamic.box_carrier: max_age_frames >= 0 required");
+  require(d.orb_features == 0 || d.orb_features >= 50, "dynamic.orb_features",
+          "0 (keep orb.n_features) or >= 50");
+  require(d.mask_margin_px >= 0 && d.mask_margin_px <= 100, "dynamic.mask_margin_px", "0 ... 100");
+  require(d.max_flow_points >= 0 && d.max_flow_points <= 100000, "dynamic.max_flow_points",
+          "0 ... 100000");
+  require(d.carry_frames >= 0 && d.carry_frames <= 255, "dynamic.carry_frames", "0 ... 255");
+  require(d.max_map_inliers_flagged > 0 && d.max_map_inliers_flagged <= 1,
+          "dynamic.max_map_inliers_flagged", "> 0 and <= 1");
+  require(d.moved_space.memory_frames >= 0, "dynamic.moved_space_frames", ">= 0");
+  require(d.detector_interval >= 1, "dynamic.detector.interval_frames", ">= 1");
+  require(c.localisation.detector_interval_frames >= 0, "localisation.detector_interval_frames",
+          ">= 0");
+  require(c.mapper.ba_lag_frames >= 1, "local_mapper.ba_lag_frames", ">= 1");
+  require(d.box_mask.depth_band_m > 0, "dynamic.box_mask.depth_band_m", "> 0");
+  require(d.box_mask.connected_step >= 0 && d.box_mask.connected_step <= 1,
+          "dynamic.box_mask.connected_step", "0 ... 1");
+  require(d.carrier.max_age_frames >= 0, "dynamic.box_carrier.max_age_frames", ">= 0");
   const MotionCheckParams& mc = d.motion;
-  if (!(mc.epipolar_threshold_px > 0) || !(mc.reprojection_threshold_px > 0) ||
-      !(mc.region_min_dynamic_ratio >= 0) || mc.region_min_dynamic_ratio > 1 ||
-      !(mc.max_seed_distance_px >= 0) || !(mc.grow.step_tolerance > 0) ||
-      !(mc.grow.max_depth_offset_m > 0))
-    throw InputError(path,
-                     "dynamic.motion_check: epipolar_threshold_px, "
-                     "reprojection_threshold_px > 0, "
-                     "0 <= region_min_dynamic_ratio <= 1, max_seed_distance_px >= 0, "
-                     "region_grow step_tolerance, max_depth_offset_m > 0 required");
+  require(mc.epipolar_threshold_px > 0, "dynamic.motion_check.epipolar_threshold_px", "> 0");
+  require(mc.reprojection_threshold_px > 0, "dynamic.motion_check.reprojection_threshold_px",
+          "> 0");
+  require(mc.region_min_dynamic_ratio >= 0 && mc.region_min_dynamic_ratio <= 1,
+          "dynamic.motion_check.region_min_dynamic_ratio", "0 ... 1");
+  require(mc.max_seed_distance_px >= 0, "dynamic.motion_check.max_seed_distance_px", ">= 0");
+  require(mc.grow.step_tolerance > 0, "dynamic.motion_check.region_grow.step_tolerance", "> 0");
+  require(mc.grow.max_depth_offset_m > 0, "dynamic.motion_check.region_grow.max_depth_offset_m",
+          "> 0");
   // Iteration counts far beyond any use run for hours (rounds 100000: 20
   // frames took over a minute); thread counts beyond a machine's cores only
   // make Ceres complain.
-  if (c.pose_optimizer.rounds > 100 || c.pose_optimizer.iterations_per_round > 1000)
-    throw InputError(path, "pose_optimizer: rounds <= 100, iterations_per_round <= 1000 required");
-  if (c.mapper.ba.iterations_first > 1000 || c.mapper.ba.iterations_second > 1000 ||
-      c.system.final_ba_iterations > 1000 || c.mapper.ba.threads > 256)
-    throw InputError(path,
-                     "local_mapper.bundle_adjustment: iterations_first, iterations_second and "
-                     "system.final_ba_iterations <= 1000, threads <= 256 required");
+  require(c.pose_optimizer.rounds <= 100, "pose_optimizer.rounds", "<= 100");
+  require(c.pose_optimizer.iterations_per_round <= 1000, "pose_optimizer.iterations_per_round",
+          "<= 1000");
+  require(c.mapper.ba.iterations_first <= 1000,
+          "local_mapper.bundle_adjustment.iterations_first", "<= 1000");
+  require(c.mapper.ba.iterations_second <= 1000,
+          "local_mapper.bundle_adjustment.iterations_second", "<= 1000");
+  require(c.mapper.ba.threads <= 256, "local_mapper.bundle_adjustment.threads", "<= 256");
+  require(c.system.final_ba_iterations <= 1000, "system.final_ba_iterations", "<= 1000");
   validateDenseMapOptions(c.map_export, path);
   validateOccupancyOptions(c.occupancy_map, path);
 }
