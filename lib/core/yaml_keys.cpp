@@ -1,6 +1,8 @@
 #include "core/yaml_keys.h"
 
+#include <cstring>
 #include <map>
+#include <set>
 #include <utility>
 #include <vector>
 
@@ -36,6 +38,52 @@ std::string plainKey(const std::string& line, std::size_t from) {
   return key;
 }
 
+/// A key repeated inside one flow mapping of the line ("{bf: 40, bf: 41}",
+/// nested ones each on their own; found by fuzzing), or "" when none is.
+/// Quoted text is a key's name or skipped; a comment ends the line.
+std::string repeatedFlowKey(const std::string& line, std::size_t from) {
+  struct Flow {
+    bool mapping;
+    bool expect_key;
+    std::set<std::string> keys;
+  };
+  std::vector<Flow> open;
+  std::string token;
+  for (std::size_t i = from; i < line.size(); ++i) {
+    const char ch = line[i];
+    if (ch == '"' || ch == '\'') {
+      const auto close = line.find(ch, i + 1);
+      if (close == std::string::npos) return "";
+      token += line.substr(i + 1, close - i - 1);
+      i = close;
+      continue;
+    }
+    if (ch == '#' && (i == 0 || line[i - 1] == ' ')) break;
+    if (ch == '{' || ch == '[') {
+      open.push_back({ch == '{', ch == '{', {}});
+      token.clear();
+    } else if (open.empty()) {
+      continue;
+    } else if (ch == '}' || ch == ']') {
+      open.pop_back();
+      token.clear();
+    } else if (ch == ',') {
+      open.back().expect_key = open.back().mapping;
+      token.clear();
+    } else if (ch == ':' && open.back().expect_key &&
+               (i + 1 == line.size() || std::strchr(" ,}", line[i + 1]))) {
+      const auto b = token.find_first_not_of(" \t"), e = token.find_last_not_of(" \t");
+      const std::string key = b == std::string::npos ? "" : token.substr(b, e - b + 1);
+      if (!open.back().keys.insert(key).second) return key;
+      open.back().expect_key = false;
+      token.clear();
+    } else {
+      token += ch;
+    }
+  }
+  return "";
+}
+
 /// Whether the value after "key:" opens a block scalar (| or >).
 bool opensBlockScalar(const std::string& line) {
   const auto colon = line.find(':');
@@ -69,6 +117,8 @@ DuplicateKey findDuplicateKey(std::istream& in) {
       if (indent == std::string::npos) break;
     }
     if (indent == std::string::npos) continue;
+    if (std::string key = repeatedFlowKey(line, indent); !key.empty())
+      return DuplicateKey{std::move(key), line_no, line_no};
     while (!levels.empty() && levels.back().indent > indent) levels.pop_back();
     if (new_item && !levels.empty() && levels.back().indent == indent) levels.pop_back();
     const std::string key = plainKey(line, indent);

@@ -14,8 +14,9 @@ struct DuplicateKey {
   std::size_t first_line = 0;  ///< where the key first appeared
 };
 
-/// First key repeated in the same block mapping (indentation-based: flow
-/// mappings `{a: 1}` and block scalars are not looked into). line 0: none.
+/// First key repeated in the same block mapping (indentation-based), or in
+/// one flow mapping `{a: 1, a: 2}` written on one line (then line and
+/// first_line are that line); block scalars are not looked into. line 0: none.
 DuplicateKey findDuplicateKey(std::istream& yaml_text);
 
 /// The 1-based line that holds the dotted key ("orb.n_features"), by the

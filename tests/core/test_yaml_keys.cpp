@@ -33,6 +33,20 @@ TEST(YamlKeys, AQuotedKeyIsTheSameKey) {
   EXPECT_EQ(scan("a:\n  \"x: y\": 1\n  x: 2\n").line, 0u);
 }
 
+// A flow mapping's keys repeat as a block's do (`{bf: 40, bf: 41}` kept the
+// last value, found by fuzzing); each mapping has its own keys, lists and
+// quoted values hold none.
+TEST(YamlKeys, FindsAKeyRepeatedInAFlowMapping) {
+  const DuplicateKey d = scan("system: {bf: 40, close_depth: 3, bf: 41}\n");
+  EXPECT_EQ(d.key, "bf");
+  EXPECT_EQ(d.line, 1u);
+  EXPECT_EQ(scan("a:\n  b: {x: 1, 'x' : 2}\n").line, 2u);
+  EXPECT_EQ(scan("a: {b: {x: 1}, c: {x: 2}}\n").line, 0u);
+  EXPECT_EQ(scan("a: {b: [x, x], c: \"x: 1, x: 2\"}\n").line, 0u);
+  EXPECT_EQ(scan("a: {b: {x: 1, y: 2}, b: 3}\n").key, "b");
+  EXPECT_EQ(scan("a: {x: 1}  # {x: 2, x: 3}\n").line, 0u);
+}
+
 // The line of a dotted key, by the block layout: the same key name in
 // another section (and a longer key starting the same) is not taken.
 TEST(YamlKeys, FindsTheLineOfADottedKey) {
