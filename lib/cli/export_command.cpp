@@ -208,6 +208,8 @@ int exportMain(int argc, char** argv) {
                           kKeyFramesFile, kMapPointsFile, kFrameTimesFile, kSavedMapFile})
     if (isInsideFolder(out_arg.getValue(), run_arg.getValue() + "/" + own))
       throw UsageError("-o " + out_arg.getValue() + ": that is the run's own " + own);
+  // Before the export's work, which the reference is read after.
+  if (compare_arg.isSet()) requireRegularFile(compare_arg.getValue(), "binary OctoMap (.bt)");
   RunDirectory run = readRunDirectory(run_arg.getValue());
   DenseMapOptions options;
   OccupancyMapOptions occupancy_options;

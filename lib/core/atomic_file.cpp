@@ -1,5 +1,7 @@
 #include "core/atomic_file.h"
 
+#include "core/errors.h"
+
 #include <unistd.h>
 
 #include <atomic>
@@ -64,6 +66,15 @@ void AtomicPath::write(const std::function<void(std::ostream&)>& writer, bool bi
 bool fileExists(const std::string& path) {
   std::error_code ec;
   return fs::is_regular_file(path, ec);
+}
+
+void requireRegularFile(const std::string& path, const std::string& what) {
+  std::error_code ec;
+  const fs::file_status st = fs::status(path, ec);
+  if (fs::is_regular_file(st)) return;
+  if (!fs::exists(st)) throw InputError(path, what + " not found");
+  if (fs::is_directory(st)) throw InputError(path, "is a folder, expected a " + what);
+  throw InputError(path, "not a regular file (a device or a pipe), expected a " + what);
 }
 
 bool isDirectory(const std::string& path) {

@@ -40,6 +40,11 @@ void writeFileAtomically(const std::string& path, const std::function<void(std::
 
 bool fileExists(const std::string& path);
 bool isDirectory(const std::string& path);
+/// Throws InputError(path) unless path is a regular file: "WHAT not found",
+/// "is a folder, expected a WHAT", or "not a regular file (a device or a
+/// pipe), expected a WHAT" (/dev/null was "not found"; /dev/zero was read
+/// until memory ran out).
+void requireRegularFile(const std::string& path, const std::string& what = "file");
 /// Creates the directory and its parents; throws naming the path on failure.
 void makeDirectories(const std::string& path);
 

@@ -208,7 +208,7 @@ std::string prepareYamlText(const std::string& path, const std::string& text) {
 }  // namespace
 
 mrpt::containers::yaml loadYamlFile(const std::string& path) {
-  if (!fileExists(path)) throw InputError(path, "config file not found");
+  requireRegularFile(path, "config file");
   std::string text;
   {
     std::ifstream in(path, std::ios::binary);

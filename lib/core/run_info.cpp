@@ -20,7 +20,7 @@ void writeRunInfo(const std::string& path, const RunInfo& info) {
 }
 
 RunInfo readRunInfo(const std::string& path) {
-  if (!fileExists(path)) throw InputError(path, "file not found");
+  requireRegularFile(path);
   ConfigSection section(loadYamlFile(path), path, "");
   RunInfo info;
   forEachRunInfoField(info, [&](const char* key, auto& v) { section.read(key, v); });

@@ -182,7 +182,7 @@ void writeGlb(const std::string& path, const MapData& map, const MapWriteOptions
 }
 
 MapData readGlb(const std::string& path) {
-  if (!fileExists(path)) throw InputError(path, "file not found");
+  requireRegularFile(path, "glTF (.glb) file");
   Assimp::Importer importer;
   const aiScene* scene = importer.ReadFile(path, 0);
   if (!scene || !scene->mRootNode) {

@@ -52,7 +52,7 @@ void writePlyBinary(const std::string& path, const ColoredCloud& cloud) {
 }
 
 ColoredCloud readPly(const std::string& path) {
-  if (!fileExists(path)) throw InputError(path, "file not found");
+  requireRegularFile(path, "PLY file");
   const PlyLayout layout = checkPlyFile(path);  // PCL trusts the header blindly
   pcl::PointCloud<pcl::PointXYZRGB> pc;
   int rc = -1;

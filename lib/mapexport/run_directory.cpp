@@ -26,8 +26,8 @@ RunDirectory readRunDirectory(const std::string& dir) {
   if (!isDirectory(dir)) throw InputError(dir, "run folder not found");
   RunDirectory run;
   run.dir = dir;
-  if (!fileExists(run.runInfoPath())) throw InputError(run.runInfoPath(), "file not found");
-  if (!fileExists(run.keyframesPath())) throw InputError(run.keyframesPath(), "file not found");
+  requireRegularFile(run.runInfoPath());
+  requireRegularFile(run.keyframesPath());
 
   const RunInfo info = readRunInfo(run.runInfoPath());
   // A relative path is resolved against the run folder if it exists there.

@@ -281,11 +281,8 @@ void saveMap(const std::string& path, const Map& map, const FrameContext& ctx,
 namespace {
 
 std::string readWholeFile(const std::string& path) {
-  if (isDirectory(path)) throw InputError(path, "is a folder, not a map file");
   // A device or a pipe (/dev/zero: read until memory ran out; a FIFO: blocked).
-  std::error_code ec;
-  if (std::filesystem::exists(path, ec) && !std::filesystem::is_regular_file(path, ec))
-    throw InputError(path, "not a regular file, not a map file");
+  requireRegularFile(path, "map file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path, "cannot open the map file");
   std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());

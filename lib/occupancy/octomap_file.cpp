@@ -32,7 +32,7 @@ void writeOctoMapFile(const std::string& path, const octomap::OcTree& tree) {
 }
 
 std::unique_ptr<octomap::OcTree> readOctoMapFile(const std::string& path) {
-  if (!fileExists(path) || isDirectory(path)) throw InputError(path, "file not found");
+  requireRegularFile(path, "binary OctoMap (.bt)");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path, "cannot open");
   auto tree = std::make_unique<octomap::OcTree>(0.1);

@@ -83,6 +83,26 @@ TEST(AtomicFile, NoTemporaryLeftAndContentComplete) {
   EXPECT_EQ(dynslam::test::listFiles(d.path()), std::vector<std::string>{"out.txt"});
 }
 
+// Inputs that are not regular files are named for what they are
+// (`export --compare /dev/null` said "file not found").
+TEST(AtomicFile, RequireRegularFileSaysWhatThePathIs) {
+  TempDir d;
+  writeText(d / "a.yaml", "x: 1\n");
+  EXPECT_NO_THROW(requireRegularFile(d / "a.yaml", "config file"));
+  auto error = [](const std::string& path) {
+    try {
+      requireRegularFile(path, "config file");
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_EQ(error(d / "none.yaml"), d / "none.yaml" + ": config file not found");
+  EXPECT_EQ(error(d.path()), d.path() + ": is a folder, expected a config file");
+  EXPECT_EQ(error("/dev/null"),
+            "/dev/null: not a regular file (a device or a pipe), expected a config file");
+}
+
 TEST(AtomicFile, FailingWriterLeavesNothing) {
   TempDir d;
   EXPECT_THROW(writeFileAtomically(d / "x.txt",

@@ -145,7 +145,7 @@ TEST(KeypointTruthScorer, SumsFramesAndScoresTrackingsFlagsApart) {
   scorer->writeJson(w);
   w.endObject();
   const std::string json = w.str();
-  for (const std::string& member :
+  for (const char* member :
        {"\"frames_scored\": 2", "\"walker_points\": 4", "\"walker_flagged\": 3", "\"recall\": 0.75",
         "\"static_points\": 4", "\"false_rejection_rate\": 0.25",
         "\"standing_rejection_rate\": null", "\"before_tracking\": {", "\"recall\": 0.5",
