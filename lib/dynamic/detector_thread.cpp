@@ -59,6 +59,7 @@ void DetectorThread::submit(const cv::Mat& bgr, long frame) {
   error_.rethrowIfFailed();
   if (last_submitted_ && frame - *last_submitted_ < interval_) return;
   last_submitted_ = frame;
+  if (!first_submitted_) first_submitted_ = frame;
   Job job;
   job.frame = frame;
   job.bgr = bgr.clone();
@@ -71,7 +72,10 @@ void DetectorThread::submit(const cv::Mat& bgr, long frame) {
 
 bool DetectorThread::takeDue(long now, std::vector<Detection>& boxes, long& frame) {
   std::unique_lock<std::mutex> lk(m_);
-  if (jobs_.empty() || jobs_.front().frame + interval_ > now) {
+  const auto due = [&](long frame) {
+    return frame == first_submitted_ ? frame <= now : frame + interval_ <= now;
+  };
+  if (jobs_.empty() || !due(jobs_.front().frame)) {
     lk.unlock();
     error_.rethrowIfFailed();
     return false;

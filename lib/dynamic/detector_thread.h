@@ -3,7 +3,10 @@
 // pass (40-100 ms on a 2-core CPU) cannot sit on a 30 fps tracking loop, so
 // it runs in its own thread on every `interval`-th frame, and the boxes of
 // frame i are handed over at frame i + interval (waiting for them if the
-// pass is late, never skipping one). Which frames are detected and when
+// pass is late, never skipping one). The first frame's boxes are the
+// exception: they are handed over at that frame itself, since the map is
+// made from it (people in view at the start, as in the TUM walking
+// sequences, would otherwise become map points). Which frames are detected and when
 // their boxes arrive never depends on thread timing, so runs repeat; the
 // flow carries the boxes from frame i to the frame that uses them.
 #include <condition_variable>
@@ -35,8 +38,9 @@ class DetectorThread {
   /// first always), ignored otherwise. Rethrows a failed detection.
   void submit(const cv::Mat& bgr, long frame);
   /// At frame `now`: the boxes of the queued frame that is due (queued at
-  /// now - interval or earlier), waiting for its detection to finish; false
-  /// when none is due. Rethrows a failed detection.
+  /// now - interval or earlier; the first frame queued at once), waiting for
+  /// its detection to finish; false when none is due. Rethrows a failed
+  /// detection.
   bool takeDue(long now, std::vector<Detection>& boxes, long& frame);
   /// Detections run so far.
   std::size_t runs() const;
@@ -52,7 +56,8 @@ class DetectorThread {
 
   YoloDetector detector_;
   const int interval_;
-  std::optional<long> last_submitted_;  ///< the last frame queued
+  std::optional<long> first_submitted_;  ///< the first frame queued
+  std::optional<long> last_submitted_;   ///< the last frame queued
   mutable std::mutex m_;
   std::condition_variable cv_;
   std::deque<Job> jobs_;  ///< queued frames in order; the done ones first

@@ -60,7 +60,8 @@ struct DynamicFilterParams {
   /// static rest must still carry tracking when they fill the view.
   int orb_features = 1500;
   /// The detector runs on every this-many-th frame in its own thread and its
-  /// boxes are used this many frames later (DetectorThread). A forward pass
+  /// boxes are used this many frames later (DetectorThread; the first
+  /// frame's at once, since the map is made from it). A forward pass
   /// costs about three frames' worth on a 2-core machine; the boxes carried
   /// by the flow fill the gaps.
   int detector_interval = 3;
