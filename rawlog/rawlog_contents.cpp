@@ -14,7 +14,6 @@
 #include <cerrno>
 #include <cstring>
 #include <cstdint>
-#include <csignal>
 
 #include "core/atomic_file.h"
 #include "core/errors.h"
@@ -91,9 +90,8 @@ void refuseObjectsThatCrashTheReader(const std::string& path) {
 }  // namespace
 
 RawlogContents::RawlogContents(const std::string& rawlog_path) : path_(rawlog_path) {
-  if (isDirectory(rawlog_path))
-    throw InputError(rawlog_path, "is a folder, expected a rawlog file");
-  if (!fileExists(rawlog_path)) throw InputError(rawlog_path, "rawlog file not found");
+  // (A pipe would block the reads below.)
+  requireRegularFile(rawlog_path, "rawlog file");
   refuseObjectsThatCrashTheReader(rawlog_path);
   mrpt::io::CFileGZInputStream file;
   if (!file.open(rawlog_path)) throw InputError(rawlog_path, "cannot open rawlog");

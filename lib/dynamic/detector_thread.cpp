@@ -72,8 +72,9 @@ void DetectorThread::submit(const cv::Mat& bgr, long frame) {
 
 bool DetectorThread::takeDue(long now, std::vector<Detection>& boxes, long& frame) {
   std::unique_lock<std::mutex> lk(m_);
-  const auto due = [&](long frame) {
-    return frame == first_submitted_ ? frame <= now : frame + interval_ <= now;
+  // (first_submitted_, like last_submitted_, is the owner's alone: no lock.)
+  const auto due = [&](long queued) {
+    return queued == first_submitted_ ? queued <= now : queued + interval_ <= now;
   };
   if (jobs_.empty() || !due(jobs_.front().frame)) {
     lk.unlock();
