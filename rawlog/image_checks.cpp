@@ -101,7 +101,7 @@ cv::Mat decodeImage(const std::string& path, int flags) {
 }  // namespace
 
 cv::Mat readRgbImage(const std::string& path) {
-  if (!fileExists(path)) throw InputError(path, "RGB image not found");
+  requireRegularFile(path, "RGB image");
   checkImageFileComplete(path);
   const cv::Mat img = decodeImage(path, cv::IMREAD_COLOR);
   if (img.empty()) throw InputError(path, "cannot decode RGB image (not a readable PNG/JPEG)");
@@ -109,7 +109,7 @@ cv::Mat readRgbImage(const std::string& path) {
 }
 
 cv::Mat readDepthImage(const std::string& path) {
-  if (!fileExists(path)) throw InputError(path, "depth image not found");
+  requireRegularFile(path, "depth image");
   checkImageFileComplete(path);
   const cv::Mat img = decodeImage(path, cv::IMREAD_UNCHANGED);
   if (img.empty()) throw InputError(path, "cannot decode depth image (not a readable PNG)");

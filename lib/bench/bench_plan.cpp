@@ -40,7 +40,7 @@ void validateBenchOptions(const BenchOptions& o) {
   for (const auto& s : o.sequences)
     if (!isDirectory(s) && !fileExists(s))
       throw InputError(s, "no such sequence (expected a TUM folder or a .rawlog file)");
-  if (!o.config.empty() && !fileExists(o.config)) throw InputError(o.config, "config not found");
+  if (!o.config.empty()) requireRegularFile(o.config, "config file");
 }
 
 std::vector<std::string> sequenceNames(const std::vector<std::string>& sequences) {

@@ -76,7 +76,7 @@ void PinholeCamera::validate(const std::string& source) const {
 }
 
 PinholeCamera loadCameraYaml(const std::string& path) {
-  if (!fileExists(path)) throw InputError(path, "camera config not found");
+  requireRegularFile(path, "camera config");
   const mrpt::containers::yaml y = loadYamlFile(path);
   if (!y.isMap() || !y.has("camera")) throw InputError(path, "missing 'camera:' section");
   if (!y["camera"].isMap()) throw InputError(path, "'camera:' must be a map of key: value");
