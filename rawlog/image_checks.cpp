@@ -1,6 +1,5 @@
 #include "rawlog/image_checks.h"
 
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include <algorithm>
@@ -12,6 +11,7 @@
 
 #include "core/atomic_file.h"
 #include "core/errors.h"
+#include "rawlog/image_decoder.h"
 
 namespace dynslam {
 
@@ -20,36 +20,6 @@ std::string describeImageType(const cv::Mat& image) {
                                  "32-bit int", "32-bit float", "64-bit float", "16-bit float"};
   return std::string(depths[image.depth() & 7]) + " " + std::to_string(image.channels()) +
          "-channel";
-}
-
-namespace {
-/// Whether `marker` occurs in `tail`.
-bool contains(const std::string& tail, const std::string& marker) {
-  return std::search(tail.begin(), tail.end(), marker.begin(), marker.end()) != tail.end();
-}
-}  // namespace
-
-void checkImageFileComplete(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path, "cannot open image");
-  std::string head(8, '\0');
-  in.read(head.data(), 8);
-  head.resize(static_cast<std::size_t>(in.gcount()));
-  // The end marker must lie in the last bytes (a few bytes of padding after
-  // it are tolerated; a file cut anywhere before it is not).
-  constexpr std::streamoff kTail = 64;
-  in.clear();
-  in.seekg(0, std::ios::end);
-  const std::streamoff size = in.tellg();
-  in.seekg(std::max<std::streamoff>(0, size - kTail));
-  std::string tail(static_cast<std::size_t>(std::min(size, kTail)), '\0');
-  in.read(tail.data(), static_cast<std::streamsize>(tail.size()));
-  const bool jpeg = head.size() >= 2 && head.compare(0, 2, "\xFF\xD8") == 0;
-  const bool png = head.size() == 8 && head == std::string("\x89PNG\r\n\x1A\n", 8);
-  if (jpeg && !contains(tail, "\xFF\xD9"))
-    throw InputError(path, "truncated JPEG (no end-of-image marker at the end of the file)");
-  if (png && !contains(tail, "IEND"))
-    throw InputError(path, "truncated PNG (no IEND chunk at the end of the file)");
 }
 
 void checkDepthMatrixFile(const std::string& path) {
@@ -88,35 +58,14 @@ void checkDepthMatrixFile(const std::string& path) {
                                ")");
 }
 
-namespace {
-/// cv::imread, its own errors (a header claiming a 100000 x 100000 image
-/// trips its size limit) as InputError(path).
-cv::Mat decodeImage(const std::string& path, int flags) {
-  try {
-    return cv::imread(path, flags);
-  } catch (const cv::Exception& e) {
-    throw InputError(path, "cannot decode image: " + std::string(e.err));
-  }
-}
-}  // namespace
-
 cv::Mat readRgbImage(const std::string& path) {
   requireRegularFile(path, "RGB image");
-  checkImageFileComplete(path);
-  const cv::Mat img = decodeImage(path, cv::IMREAD_COLOR);
-  if (img.empty()) throw InputError(path, "cannot decode RGB image (not a readable PNG/JPEG)");
-  return img;
+  return decodeImageFile(path, DecodedImage::kBgr8);
 }
 
 cv::Mat readDepthImage(const std::string& path) {
   requireRegularFile(path, "depth image");
-  checkImageFileComplete(path);
-  const cv::Mat img = decodeImage(path, cv::IMREAD_UNCHANGED);
-  if (img.empty()) throw InputError(path, "cannot decode depth image (not a readable PNG)");
-  if (img.type() != CV_16UC1)
-    throw InputError(path,
-                     "depth image must be 16-bit single-channel, found " + describeImageType(img));
-  return img;
+  return decodeImageFile(path, DecodedImage::kDepth16);
 }
 
 cv::Mat toBgr8(const cv::Mat& image, const std::string& source) {

@@ -10,11 +10,6 @@
 
 namespace dynslam {
 
-/// Throws InputError(path) if a JPEG or PNG file stops before its end marker
-/// (JPEG EOI, PNG IEND chunk): cv::imread decodes a truncated JPEG as a
-/// grey-padded frame without a word. Other formats are not checked.
-void checkImageFileComplete(const std::string& path);
-
 /// Throws InputError(path) unless an external depth matrix of a rawlog
 /// (MRPT's .bin: a header of rows and cols as 32-bit integers, then rows x
 /// cols 16-bit values, usually gzip-compressed) is whole and of a sane size.
@@ -22,12 +17,12 @@ void checkImageFileComplete(const std::string& path);
 /// a check (garbage crashes it) and reads a cut file without a word.
 void checkDepthMatrixFile(const std::string& path);
 
-/// cv::imread as 8-bit BGR; throws InputError(path) if missing, truncated or
-/// undecodable.
+/// An RGB image file as 8-bit BGR (decodeImageFile); throws InputError(path)
+/// if missing, cut short, corrupt or undecodable.
 cv::Mat readRgbImage(const std::string& path);
 
-/// cv::imread unchanged; throws InputError(path) if missing, undecodable or
-/// not 16-bit single-channel.
+/// A depth image file as CV_16UC1 (decodeImageFile); throws InputError(path)
+/// if missing, cut short, corrupt, undecodable or not 16-bit single-channel.
 cv::Mat readDepthImage(const std::string& path);
 
 /// Converts a decoded colour/grey 8-bit image to BGR (gray and BGRA allowed).

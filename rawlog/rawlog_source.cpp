@@ -112,16 +112,20 @@ RGBDFrame RawlogSource::load(std::size_t i) const {
                        ? s.rangeImage_getExternalStorageFileAbsolutePath("")
                        : where;
 
-  // RGB: decoding an external file is MRPT's job (lazy CImage load).
-  if (s.intensityImage.isExternallyStored() && !fileExists(f.rgb_source))
-    throw InputError(f.rgb_source, "external RGB image of the rawlog not found");
-  if (s.intensityImage.isExternallyStored()) checkImageFileComplete(f.rgb_source);
-  try {
-    f.rgb = toBgr8(s.intensityImage.asCvMatRef(), f.rgb_source).clone();
-  } catch (const InputError&) {
-    throw;
-  } catch (const std::exception& e) {
-    throw InputError(f.rgb_source, "cannot read RGB image: " + oneLineMessage(e.what()));
+  // RGB: an external file is decoded here, as a TUM folder's (MRPT's lazy
+  // load decodes a corrupt JPEG without a word); an embedded one is MRPT's.
+  if (s.intensityImage.isExternallyStored()) {
+    if (!fileExists(f.rgb_source))
+      throw InputError(f.rgb_source, "external RGB image of the rawlog not found");
+    f.rgb = readRgbImage(f.rgb_source);
+  } else {
+    try {
+      f.rgb = toBgr8(s.intensityImage.asCvMatRef(), f.rgb_source).clone();
+    } catch (const InputError&) {
+      throw;
+    } catch (const std::exception& e) {
+      throw InputError(f.rgb_source, "cannot read RGB image: " + oneLineMessage(e.what()));
+    }
   }
 
   // Depth: the raw uint16 matrix, loaded by MRPT if external.

@@ -14,6 +14,7 @@ PACKAGES=(
   liboctomap-dev octomap-tools     # OctoMap export (.bt); convert_octree/bt2vrml check the files
   libosmesa6-dev                   # off-screen rendering without X or GPU
   libceres-dev                     # bundle adjustment
+  libpng-dev libjpeg-dev           # PNG / JPEG frames decoded with their errors caught (rawlog/image_decoder.h)
   libgtest-dev                     # unit tests
   parallel                         # GNU parallel: runs `dynslam bench --emit-jobs` files (README, bench test)
   python3 python3-opencv python3-numpy  # only for ../shared/tools/make_dynamic_sequence.py (test data)

@@ -17,6 +17,7 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <thread>
 
 #include "optim/ba_residuals.h"
 
@@ -176,7 +177,10 @@ class CeresBA {
     mono_loss_.robust = stereo_loss_.robust = robust;
     ceres::Solver::Options o;
     o.max_num_iterations = iterations;
-    o.num_threads = std::max(1, params_.threads);
+    // More threads than cores buy nothing, and Ceres would print a warning
+    // on every solve.
+    const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+    o.num_threads = std::clamp(params_.threads, 1, cores);
     o.logging_type = ceres::SILENT;
     o.minimizer_progress_to_stdout = false;
     // A copy: Ceres prunes the ordering it is given (constant and unused

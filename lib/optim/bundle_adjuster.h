@@ -42,8 +42,8 @@ struct BAParams {
   int iterations_second = 10;  ///< after dropping outliers
   double chi2_mono = 5.991;
   double chi2_stereo = 7.815;
-  /// Ceres threads. 1 (default) keeps the result bit-for-bit reproducible and
-  /// leaves the other cores to tracking.
+  /// Ceres threads (at most the machine's cores). 1 (default) keeps the
+  /// result bit-for-bit reproducible and leaves the other cores to tracking.
   int threads = 1;
   /// Up to this many free keyframes the reduced camera system is solved dense
   /// (DENSE_SCHUR, fastest for local BA); beyond it SPARSE_SCHUR.

@@ -1,14 +1,13 @@
 #include "place/training_images.h"
 
-#include <opencv2/imgcodecs.hpp>
-
 #include <algorithm>
 #include <cctype>
 #include <filesystem>
 #include <stdexcept>
 
+#include "core/atomic_file.h"
 #include "core/errors.h"
-#include "rawlog/image_checks.h"
+#include "rawlog/image_decoder.h"
 #include "rawlog/sequence_source.h"
 
 namespace dynslam {
@@ -71,9 +70,8 @@ std::vector<cv::Mat> extractTrainingDescriptors(
   out.reserve(images.size());
   std::vector<cv::KeyPoint> keypoints;
   for (const std::string& path : images) {
-    checkImageFileComplete(path);  // imread pads a truncated JPEG silently
-    const cv::Mat gray = cv::imread(path, cv::IMREAD_GRAYSCALE);
-    if (gray.empty()) throw InputError(path, "cannot read image");
+    requireRegularFile(path, "training image");
+    const cv::Mat gray = decodeImageFile(path, DecodedImage::kGray8);
     cv::Mat descriptors;
     extractor.extract(gray, keypoints, descriptors);
     out.push_back(descriptors);

@@ -1,0 +1,221 @@
+// The PNG / JPEG decoder against OpenCV's (an independent decoder of the same
+// files: the pixels must agree), and against damaged files that cv::imread
+// decodes without a word or with a library line on stderr.
+#include <gtest/gtest.h>
+
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include <algorithm>
+
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
+#include <vector>
+
+#include "core/errors.h"
+#include "rawlog/image_decoder.h"
+#include "testing/test_support.h"
+
+namespace fs = std::filesystem;
+using dynslam::DecodedImage;
+using dynslam::decodeImageFile;
+using dynslam::InputError;
+
+namespace {
+
+// Every 25th file: about 60 decodes of each kind (all 1445 agreed by hand).
+constexpr std::size_t kEveryNth = 25;
+
+std::string rpyDir() { return dynslam::test::sharedDir() + "/data/tum/rgbd_dataset_freiburg1_rpy"; }
+
+std::vector<std::string> sortedFiles(const std::string& dir) {
+  std::vector<std::string> files;
+  for (const auto& e : fs::directory_iterator(dir)) files.push_back(e.path().string());
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+std::string readBytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+void writeBytes(const std::string& path, const std::string& bytes) {
+  std::ofstream(path, std::ios::binary) << bytes;
+}
+
+bool samePixels(const cv::Mat& a, const cv::Mat& b) {
+  return a.size() == b.size() && a.type() == b.type() && cv::norm(a, b, cv::NORM_INF) == 0;
+}
+
+/// The message of the InputError that decoding throws ("" if none).
+std::string decodeError(const std::string& path, DecodedImage as) {
+  try {
+    decodeImageFile(path, as);
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file(), path);
+    return e.what();
+  }
+  return "";
+}
+
+/// The first fr1_rpy JPEG with its entropy-coded data damaged in the middle:
+/// 8 bytes there replaced by a restart marker the file does not use (what a
+/// flipped bit or a bad sector leaves). cv::imread still decodes it.
+std::string damagedJpeg(const std::string& dir) {
+  std::string bytes = readBytes(sortedFiles(rpyDir() + "/rgb")[0]);
+  const std::size_t mid = bytes.size() / 2;
+  for (std::size_t k = 0; k < 8; k += 2) {
+    bytes[mid + k] = '\xFF';
+    bytes[mid + k + 1] = '\xD3';
+  }
+  const std::string path = dir + "/damaged.jpg";
+  writeBytes(path, bytes);
+  return path;
+}
+
+}  // namespace
+
+TEST(ImageDecoder, GivesTheSamePixelsAsImreadOnTheSequencesFiles) {
+  const std::vector<std::string> rgb = sortedFiles(rpyDir() + "/rgb");
+  const std::vector<std::string> depth = sortedFiles(rpyDir() + "/depth");
+  ASSERT_GT(rgb.size(), 700u);
+  ASSERT_GT(depth.size(), 700u);
+  int compared = 0;
+  for (std::size_t i = 0; i < rgb.size(); i += kEveryNth, ++compared) {
+    EXPECT_TRUE(samePixels(decodeImageFile(rgb[i], DecodedImage::kBgr8),
+                           cv::imread(rgb[i], cv::IMREAD_COLOR)))
+        << rgb[i];
+    EXPECT_TRUE(samePixels(decodeImageFile(rgb[i], DecodedImage::kGray8),
+                           cv::imread(rgb[i], cv::IMREAD_GRAYSCALE)))
+        << rgb[i];
+  }
+  for (std::size_t i = 0; i < depth.size(); i += kEveryNth, ++compared)
+    EXPECT_TRUE(samePixels(decodeImageFile(depth[i], DecodedImage::kDepth16),
+                           cv::imread(depth[i], cv::IMREAD_UNCHANGED)))
+        << depth[i];
+  EXPECT_GE(compared, 56);
+}
+
+// PNG kinds a camera or a converter may write: grey, colour, with alpha, 16
+// bits per channel; each read as colour and as grey.
+TEST(ImageDecoder, GivesTheSamePixelsAsImreadOnOtherPngKinds) {
+  dynslam::test::TempDir d;
+  const cv::Mat bgr = cv::imread(sortedFiles(rpyDir() + "/rgb")[10], cv::IMREAD_COLOR);
+  ASSERT_FALSE(bgr.empty());
+  cv::Mat gray, bgra, bgr16;
+  cv::cvtColor(bgr, gray, cv::COLOR_BGR2GRAY);
+  cv::cvtColor(bgr, bgra, cv::COLOR_BGR2BGRA);
+  bgr.convertTo(bgr16, CV_16U, 257.0, 3.0);
+  int n = 0;
+  for (const cv::Mat& m : {bgr, gray, bgra, bgr16}) {
+    const std::string path = d / ("kind" + std::to_string(n++) + ".png");
+    ASSERT_TRUE(cv::imwrite(path, m));
+    EXPECT_TRUE(
+        samePixels(decodeImageFile(path, DecodedImage::kBgr8), cv::imread(path, cv::IMREAD_COLOR)))
+        << path;
+    EXPECT_TRUE(samePixels(decodeImageFile(path, DecodedImage::kGray8),
+                           cv::imread(path, cv::IMREAD_GRAYSCALE)))
+        << path;
+  }
+}
+
+TEST(ImageDecoder, CorruptJpegDataIsAnErrorNamingTheFile) {
+  dynslam::test::TempDir d;
+  const std::string path = damagedJpeg(d.path());
+  // What the decoder guards against: OpenCV gives a frame of the right size.
+  testing::internal::CaptureStderr();
+  const cv::Mat garbled = cv::imread(path, cv::IMREAD_COLOR);
+  testing::internal::GetCapturedStderr();
+  EXPECT_EQ(garbled.size(), cv::Size(640, 480));
+  testing::internal::CaptureStderr();
+  const std::string error = decodeError(path, DecodedImage::kBgr8);
+  EXPECT_EQ(testing::internal::GetCapturedStderr(), "");
+  EXPECT_NE(error.find("cannot decode JPEG (libjpeg: Corrupt JPEG data"), std::string::npos)
+      << error;
+  EXPECT_NE(decodeError(path, DecodedImage::kGray8), "");
+}
+
+TEST(ImageDecoder, FilesCutShortAreErrors) {
+  dynslam::test::TempDir d;
+  const std::string jpeg = readBytes(sortedFiles(rpyDir() + "/rgb")[0]);
+  const std::string png = readBytes(sortedFiles(rpyDir() + "/depth")[0]);
+  for (const double keep : {0.99, 0.5, 0.01}) {
+    const std::string j = d / "cut.jpg", p = d / "cut.png";
+    writeBytes(j, jpeg.substr(0, std::size_t(jpeg.size() * keep)));
+    writeBytes(p, png.substr(0, std::size_t(png.size() * keep)));
+    testing::internal::CaptureStderr();
+    const std::string ej = decodeError(j, DecodedImage::kBgr8);
+    const std::string ep = decodeError(p, DecodedImage::kDepth16);
+    EXPECT_EQ(testing::internal::GetCapturedStderr(), "");
+    EXPECT_NE(ej.find("cannot decode JPEG (libjpeg: "), std::string::npos) << keep << ": " << ej;
+    EXPECT_NE(ep.find("cannot decode PNG (libpng: "), std::string::npos) << keep << ": " << ep;
+  }
+  // Only the end-of-image marker missing: still cut short.
+  const std::string j = d / "noeoi.jpg";
+  writeBytes(j, jpeg.substr(0, jpeg.size() - 2));
+  EXPECT_NE(decodeError(j, DecodedImage::kBgr8).find("Premature end of JPEG file"),
+            std::string::npos);
+  // Bytes after the end marker are padding, not damage.
+  const std::string padded = d / "padded.jpg";
+  writeBytes(padded, jpeg + std::string(16, '\0'));
+  EXPECT_TRUE(samePixels(decodeImageFile(padded, DecodedImage::kBgr8),
+                         cv::imread(sortedFiles(rpyDir() + "/rgb")[0], cv::IMREAD_COLOR)));
+}
+
+// A changed byte in a PNG's image data: its checksum fails. libpng printed
+// "libpng error: IDAT: CRC error" through cv::imread.
+TEST(ImageDecoder, CorruptPngDataIsAnErrorWithNothingOnStderr) {
+  dynslam::test::TempDir d;
+  std::string png = readBytes(sortedFiles(rpyDir() + "/depth")[0]);
+  png[png.size() / 2] = static_cast<char>(png[png.size() / 2] ^ 0x10);
+  const std::string path = d / "crc.png";
+  writeBytes(path, png);
+  testing::internal::CaptureStderr();
+  const std::string error = decodeError(path, DecodedImage::kDepth16);
+  EXPECT_EQ(testing::internal::GetCapturedStderr(), "");
+  EXPECT_NE(error.find("cannot decode PNG (libpng: IDAT: CRC error)"), std::string::npos) << error;
+}
+
+TEST(ImageDecoder, DepthMustBeSixteenBitSingleChannel) {
+  dynslam::test::TempDir d;
+  const std::string rgb = sortedFiles(rpyDir() + "/rgb")[0];
+  EXPECT_NE(decodeError(rgb, DecodedImage::kDepth16)
+                .find("depth image must be 16-bit single-channel, found 8-bit 3-channel (JPEG)"),
+            std::string::npos);
+  const std::string png8 = d / "gray8.png";
+  ASSERT_TRUE(cv::imwrite(png8, cv::Mat(48, 64, CV_8UC1, cv::Scalar(7))));
+  EXPECT_NE(decodeError(png8, DecodedImage::kDepth16)
+                .find("depth image must be 16-bit single-channel, found 8-bit 1-channel (PNG)"),
+            std::string::npos);
+}
+
+// A header claiming 100000 x 100000 pixels (a corrupt or hostile file) is
+// refused before anything is allocated.
+TEST(ImageDecoder, AHeaderClaimingAHugeSizeIsRefused) {
+  dynslam::test::TempDir d;
+  // JPEG: the SOF0 segment's height and width (big-endian 16-bit) set to 65000.
+  std::string jpeg = readBytes(sortedFiles(rpyDir() + "/rgb")[0]);
+  const std::size_t sof = jpeg.find("\xFF\xC0");
+  ASSERT_NE(sof, std::string::npos);
+  for (std::size_t k : {5u, 7u}) {
+    jpeg[sof + k] = '\xFD';
+    jpeg[sof + k + 1] = '\xE8';
+  }
+  const std::string j = d / "huge.jpg";
+  writeBytes(j, jpeg);
+  EXPECT_NE(decodeError(j, DecodedImage::kBgr8).find("image header claims 65000 x 65000 pixels"),
+            std::string::npos)
+      << decodeError(j, DecodedImage::kBgr8);
+}
+
+TEST(ImageDecoder, MissingOrUnknownFilesAreErrors) {
+  dynslam::test::TempDir d;
+  EXPECT_NE(decodeError(d / "none.png", DecodedImage::kBgr8).find("cannot open image"),
+            std::string::npos);
+  const std::string text = d / "text.png";
+  writeBytes(text, "not an image at all");
+  EXPECT_NE(decodeError(text, DecodedImage::kBgr8).find("cannot decode image"), std::string::npos);
+}
