@@ -95,6 +95,10 @@ std::string RawlogSource::groundtruthPath() const {
 
 std::string RawlogSource::sensorLabel(std::size_t i) const { return scans_.at(i)->sensorLabel; }
 
+double RawlogSource::timestamp(std::size_t i) const {
+  return mrpt::Clock::toDouble(scans_.at(i)->timestamp);
+}
+
 RGBDFrame RawlogSource::load(std::size_t i) const {
   const CObservation3DRangeScan& s = *scans_.at(i);
   std::lock_guard<std::mutex> lock(mutex_);

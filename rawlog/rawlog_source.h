@@ -47,6 +47,7 @@ class RawlogSource : public FrameSource {
   /// Frame i; depth_timestamp equals timestamp (a scan has one time stamp);
   /// depth in the RGB camera (registered when the depth camera differs).
   RGBDFrame load(std::size_t i) const override;
+  double timestamp(std::size_t i) const override;
   const PinholeCamera& camera() const override { return camera_; }
   std::string description() const override { return path_; }
   SourceNotes notes() const override;

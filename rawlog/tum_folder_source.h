@@ -33,6 +33,7 @@ class TumFolderSource : public FrameSource {
 
   std::size_t size() const override { return pairs_.size(); }
   RGBDFrame load(std::size_t i) const override;
+  double timestamp(std::size_t i) const override { return pairs_.at(i).rgb.timestamp; }
   const PinholeCamera& camera() const override { return camera_; }
   std::string description() const override { return folder_; }
 

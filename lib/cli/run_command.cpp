@@ -19,7 +19,7 @@ int runMain(int argc, char** argv) {
       "Frames where "
       "tracking is lost get no pose. Runs repeat: the same input, config and build give "
       "byte-identical outputs whatever the machine's load (report.json depends_on names all "
-      "three). A rawlog's range image taken by a separate depth camera "
+      "three; --realtime runs excepted). A rawlog's range image taken by a separate depth camera "
       "(other intrinsics or a relativePoseIntensityWRTDepth beyond the change of axes) is "
       "registered to the RGB camera (report.json: input_source). The default configs and the "
       "vocabulary are read from "
@@ -72,6 +72,13 @@ int runMain(int argc, char** argv) {
                             "runs on every localisation.detector_interval_frames-th frame",
                             cmd);
   TCLAP::SwitchArg save_map("", "save-map", "also write the final map to OUT_DIR/map.dsm", cmd);
+  TCLAP::SwitchArg realtime(
+      "", "realtime",
+      "feed the frames at the rate the sensor recorded them, as a live camera would: a frame "
+      "whose successor has arrived before the tracker is free is dropped (no pose; "
+      "report.json dropped_frames). Shows what the machine keeps up with live; such runs do "
+      "not repeat",
+      cmd);
   int exit_code = kOk;
   if (!parseArguments(cmd, argc, argv, exit_code)) return exit_code;
   if (max_frames.isSet() && max_frames.getValue() < 1)
@@ -92,6 +99,7 @@ int runMain(int argc, char** argv) {
   o.map_path = map.getValue();
   o.localize = localize.getValue();
   o.save_map = save_map.getValue();
+  o.realtime = realtime.getValue();
   InterruptGuard interrupt;  // Ctrl-C: the frames so far are written
   const RunSummary s = runSlam(o);
   std::printf(
@@ -99,6 +107,9 @@ int runMain(int argc, char** argv) {
       "results in %s\n",
       s.frames, s.tracked, s.frames ? 100.0 * s.tracked / s.frames : 0.0, s.keyframes, s.map_points,
       s.fps, o.out_dir.c_str());
+  if (o.realtime)
+    std::printf("%zu of the %zu frames dropped by --realtime (the tracker was late)\n", s.dropped,
+                s.frames);
   if (s.interrupted_by) {
     std::fprintf(stderr, "dynslam run: %s after %zu frames; the results hold them\n",
                  Interrupted(s.interrupted_by).what(), s.frames);

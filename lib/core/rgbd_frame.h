@@ -39,6 +39,8 @@ class FrameSource {
   /// Loads frame i (0 <= i < size()). Throws InputError naming the file on
   /// unreadable images, non-16-bit depth or a size that disagrees with camera().
   virtual RGBDFrame load(std::size_t i) const = 0;
+  /// The RGB time stamp of frame i (load(i).timestamp) without decoding it.
+  virtual double timestamp(std::size_t i) const = 0;
   virtual const PinholeCamera& camera() const = 0;
   /// Human-readable origin (folder or rawlog path).
   virtual std::string description() const = 0;

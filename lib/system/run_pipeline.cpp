@@ -21,6 +21,7 @@
 #include "system/frame_prefetcher.h"
 #include "system/run_recorder.h"
 #include "system/run_report.h"
+#include "system/sensor_rate_pacer.h"
 #include "system/slam_system.h"
 
 namespace dynslam {
@@ -89,6 +90,8 @@ RunSummary runSlam(const RunOptions& opt) {
   FramePrefetcher frames(*source, n,
                          static_cast<std::size_t>(std::max(0, cfg.system.prefetch_frames)));
   ProgressLine progress("frame", n);
+  std::optional<SensorRatePacer> pacer;
+  if (opt.realtime) pacer.emplace();
   const auto t0 = SteadyClock::now();
   int interrupted_by = 0;
   for (std::size_t i = 0; i < n; ++i) {
@@ -99,6 +102,11 @@ RunSummary runSlam(const RunOptions& opt) {
     }
     FrameRecord rec;
     const RGBDFrame frame = frames.next(&rec.read_ms);
+    if (pacer &&
+        !pacer->admit(frame.timestamp, i + 1 < n ? source->timestamp(i + 1) : std::nan(""))) {
+      progress.update(i + 1, std::to_string(pacer->dropped()) + " dropped");
+      continue;
+    }
     const FrameOutcome out = slam.process(frame);
     rec.timestamp = frame.timestamp;
     rec.track_ms = latestStageMs(slam.times(), "track", i);
@@ -139,6 +147,7 @@ RunSummary runSlam(const RunOptions& opt) {
   sum.wall_s = wall;
   sum.fps = wall > 0 ? n / wall : 0;
   sum.interrupted_by = interrupted_by;
+  sum.dropped = pacer ? pacer->dropped() : 0;
 
   const RunLayout layout{staged.path()};
   const std::string header = "dynslam " DYNSLAM_VERSION " run of " + opt.input;

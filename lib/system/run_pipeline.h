@@ -40,11 +40,16 @@ struct RunOptions {
   std::string map_path;        ///< a saved map to start in (empty: a new map)
   bool localize = false;       ///< with map_path: track only, the map unchanged
   bool save_map = false;       ///< write OUT/map.dsm
+  /// Feed frames at the rate the sensor recorded them and drop a frame whose
+  /// successor has arrived before the tracker is free, as live (SensorRatePacer).
+  /// Such a run does not repeat.
+  bool realtime = false;
 };
 
 struct RunSummary {
   std::size_t frames = 0, tracked = 0, keyframes = 0, map_points = 0;
   double wall_s = 0, fps = 0;
+  std::size_t dropped = 0;  ///< frames --realtime dropped (no pose, not processed)
   /// The signal that stopped the run early (0: it ran to the end); the
   /// outputs then hold the frames processed until then.
   int interrupted_by = 0;

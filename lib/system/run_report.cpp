@@ -58,6 +58,8 @@ std::string runReportJson(const RunReportInputs& in) {
       .value("map_points", in.summary.map_points)
       .value("wall_time_s", in.summary.wall_s)
       .value("fps", in.summary.fps)
+      .value("realtime", in.options.realtime)
+      .value("dropped_frames", in.summary.dropped)
       .value("peak_rss_mb", peakRssMb());
   w.beginObject("depends_on")
       .value("config_crc", id.config)

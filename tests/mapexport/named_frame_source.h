@@ -16,6 +16,7 @@ class NamedFrameSource : public FrameSource {
   NamedFrameSource(std::string seq, std::size_t n, const PinholeCamera& camera)
       : seq_(std::move(seq)), n_(n), cam_(camera) {}
   std::size_t size() const override { return n_; }
+  double timestamp(std::size_t i) const override { return double(i + 1); }
   const PinholeCamera& camera() const override { return cam_; }
   std::string description() const override { return seq_; }
   /// File stem of frame i: its timestamp i + 1 with 6 decimals.

@@ -375,6 +375,7 @@ class PlaneSource : public FrameSource {
     f.index = i;
     return f;
   }
+  double timestamp(std::size_t i) const override { return double(i + 1); }
   const PinholeCamera& camera() const override { return camera_; }
   std::string description() const override { return "plane source"; }
 

@@ -20,6 +20,7 @@
 #include "rawlog/rawlog_layout.h"
 #include "rawlog/rawlog_source.h"
 #include "rawlog/sequence_source.h"
+#include "rawlog/tum_folder_source.h"
 #include "rawlog/tum_to_rawlog.h"
 #include "testing/test_support.h"
 
@@ -91,6 +92,8 @@ TEST(Convert, RoundTripIsExact) {
   for (std::size_t i = 0; i < 3; ++i) {
     const RGBDFrame f = src.load(i);
     EXPECT_NEAR(f.timestamp, s.rgb_times[i], 1e-6) << i;
+    EXPECT_EQ(src.timestamp(i), f.timestamp) << i;  // without decoding
+    EXPECT_EQ(TumFolderSource(s.dir, s.config).timestamp(i), s.rgb_times[i]) << i;
     EXPECT_EQ(f.rgb.type(), CV_8UC3);
     EXPECT_EQ(f.depth.type(), CV_16UC1);
     EXPECT_TRUE(sameMat(f.rgb, s.rgb[i])) << i;

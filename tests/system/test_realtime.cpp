@@ -1,0 +1,98 @@
+// --realtime: frames fed at the sensor's rate, the stale ones dropped. The
+// pacer on a hand-driven clock (known arithmetic: which frames a tracker of a
+// given speed keeps), then a run of fr1_rpy that must take at least the
+// sensor's own time.
+#include <gtest/gtest.h>
+
+#include <opencv2/core.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "rawlog/sequence_source.h"
+#include "system/sensor_rate_pacer.h"
+#include "testing/test_support.h"
+
+using dynslam::SensorRatePacer;
+using dynslam::test::TempDir;
+
+namespace {
+
+/// A clock that moves only when told: waiting jumps to the time asked for,
+/// tracking a frame adds its cost.
+struct HandClock {
+  double t = 0;
+  SensorRatePacer::Clock clock() {
+    return {[this] { return t; }, [this](double until) { t = std::max(t, until); }};
+  }
+};
+
+/// Frames at 32 Hz (exact in binary) from a TUM-like start time; the
+/// admitted ones cost `track_s` each. Returns which were admitted.
+std::vector<bool> feed(int frames, double track_s, HandClock& hand) {
+  SensorRatePacer pacer(hand.clock());
+  const double t0 = 1305031229.5, dt = 1.0 / 32;
+  std::vector<bool> admitted;
+  for (int k = 0; k < frames; ++k) {
+    const double next = k + 1 < frames ? t0 + (k + 1) * dt : std::nan("");
+    admitted.push_back(pacer.admit(t0 + k * dt, next));
+    if (admitted.back()) hand.t += track_s;
+  }
+  EXPECT_EQ(pacer.dropped(), std::size_t(std::count(admitted.begin(), admitted.end(), false)));
+  return admitted;
+}
+
+}  // namespace
+
+// A tracker taking two frame periods keeps every other frame: each time it
+// is free, the frame after the one it waited for has just arrived.
+TEST(SensorRatePacer, ATrackerAtHalfTheRateKeepsEveryOtherFrame) {
+  HandClock hand;
+  const std::vector<bool> a = feed(20, 2.0 / 32, hand);
+  for (int k = 0; k < 20; ++k) EXPECT_EQ(a[k], k % 2 == 0 || k == 19) << k;
+}
+
+// A tracker faster than the sensor keeps every frame and waits for each:
+// the run takes the sensor's time, not the tracker's.
+TEST(SensorRatePacer, AFastTrackerKeepsEveryFrameAtTheSensorsPace) {
+  HandClock hand;
+  const std::vector<bool> a = feed(20, 0.25 / 32, hand);
+  EXPECT_EQ(std::count(a.begin(), a.end(), true), 20);
+  EXPECT_DOUBLE_EQ(hand.t, 19.0 / 32 + 0.25 / 32);
+}
+
+// A tracker three times too slow keeps one frame in three; the last frame
+// is never dropped (nothing newer arrives).
+TEST(SensorRatePacer, ASlowTrackerKeepsOneInThreeAndTheLastFrame) {
+  HandClock hand;
+  const std::vector<bool> a = feed(10, 3.0 / 32, hand);
+  EXPECT_EQ(a,
+            std::vector<bool>({true, false, false, true, false, false, true, false, false, true}));
+}
+
+// The first 60 frames of fr1_rpy span 2 s of the sensor's time: a paced run
+// takes at least that long, says so in report.json, and gives a pose only to
+// the frames it did not drop.
+TEST(RunRealtime, TakesTheSensorsTimeAndReportsTheDroppedFrames) {
+  TempDir d;
+  const std::string rpy = dynslam::test::sharedDir() + "/data/tum/rgbd_dataset_freiburg1_rpy";
+  const dynslam::test::CommandResult r = dynslam::test::runDynslam(
+      {"run", rpy, "--mode", "off", "--max-frames", "60", "--realtime", "-o", d / "out"});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("dropped by --realtime"), std::string::npos) << r.output;
+  cv::FileStorage report(d / "out/report.json",
+                         cv::FileStorage::READ | cv::FileStorage::FORMAT_JSON);
+  ASSERT_TRUE(report.isOpened());
+  EXPECT_EQ(int(report["realtime"]), 1);
+  const int dropped = int(report["dropped_frames"]);
+  const std::vector<double> stamps = dynslam::tumPairTimestamps(rpy);
+  ASSERT_GE(stamps.size(), 60u);
+  EXPECT_GE(double(report["wall_time_s"]), stamps[59] - stamps[0]);
+  std::ifstream traj(d / "out/trajectory.txt");
+  int poses = 0;
+  for (std::string line; std::getline(traj, line);) poses += !line.empty() && line[0] != '#';
+  EXPECT_EQ(poses + dropped, 60) << "lost frames: " << int(report["lost_frames"]);
+}
