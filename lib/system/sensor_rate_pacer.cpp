@@ -23,14 +23,18 @@ SensorRatePacer::SensorRatePacer() : SensorRatePacer(steadyClock()) {}
 SensorRatePacer::SensorRatePacer(Clock clock) : clock_(std::move(clock)) {}
 
 bool SensorRatePacer::admit(double stamp, double next_stamp) {
-  if (!started_) {
+  const auto regular = [](double from, double to) {
+    return std::isfinite(to) && to >= from && to - from <= kMaxStepS;
+  };
+  if (!started_ || !regular(last_stamp_, stamp)) {
     started_ = true;
     wall0_ = clock_.now();
     stamp0_ = stamp;
   }
+  last_stamp_ = stamp;
   const auto arrival = [&](double s) { return wall0_ + (s - stamp0_); };
   if (clock_.now() < arrival(stamp)) clock_.wait_until(arrival(stamp));
-  if (std::isfinite(next_stamp) && clock_.now() >= arrival(next_stamp)) {
+  if (regular(stamp, next_stamp) && clock_.now() >= arrival(next_stamp)) {
     ++dropped_;
     return false;
   }

@@ -26,12 +26,17 @@ class SensorRatePacer {
   /// has arrived as well.
   bool admit(double stamp, double next_stamp);
 
+  /// A step between two time stamps beyond this, or backwards, is a pause
+  /// or a fault of the recording, not time to wait for: the sensor's clock
+  /// starts again at the later frame.
+  static constexpr double kMaxStepS = 1.0;
+
   std::size_t dropped() const { return dropped_; }
 
  private:
   Clock clock_;
   bool started_ = false;
-  double wall0_ = 0, stamp0_ = 0;
+  double wall0_ = 0, stamp0_ = 0, last_stamp_ = 0;
   std::size_t dropped_ = 0;
 };
 

@@ -96,3 +96,20 @@ TEST(RunRealtime, TakesTheSensorsTimeAndReportsTheDroppedFrames) {
   for (std::string line; std::getline(traj, line);) poses += !line.empty() && line[0] != '#';
   EXPECT_EQ(poses + dropped, 60) << "lost frames: " << int(report["lost_frames"]);
 }
+
+// A recording with a one-hour pause and a time stamp that goes backwards
+// (a fault): the pacer waits for neither (the hand clock moves by less than
+// the frames' regular spacing and cost), and drops no frame for them.
+TEST(SensorRatePacer, PausesAndBackwardStampsAreNotWaitedFor) {
+  HandClock hand;
+  SensorRatePacer pacer(hand.clock());
+  const double dt = 1.0 / 32;
+  const std::vector<double> stamps = {100, 100 + dt, 3700, 3700 + dt, 50, 50 + dt};
+  for (std::size_t k = 0; k < stamps.size(); ++k) {
+    const double next = k + 1 < stamps.size() ? stamps[k + 1] : std::nan("");
+    EXPECT_TRUE(pacer.admit(stamps[k], next)) << k;
+    hand.t += 0.25 * dt;
+  }
+  EXPECT_EQ(pacer.dropped(), 0u);
+  EXPECT_LE(hand.t, 4 * dt);
+}
