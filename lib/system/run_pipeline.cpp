@@ -28,7 +28,7 @@ namespace dynslam {
 
 namespace {
 
-/// The latest sample of a stage if it was recorded for frame `i` (NaN if not).
+/// The time of `stage` in the i-th frame given to SLAM (NaN if it did not run).
 double latestStageMs(const StageTimes& times, const std::string& stage, std::size_t i) {
   const auto& names = times.stages();
   if (std::find(names.begin(), names.end(), stage) == names.end()) return std::nan("");
@@ -94,6 +94,7 @@ RunSummary runSlam(const RunOptions& opt) {
   if (opt.realtime) pacer.emplace();
   const auto t0 = SteadyClock::now();
   int interrupted_by = 0;
+  std::size_t processed = 0;  // frames given to SLAM (all but those --realtime dropped)
   for (std::size_t i = 0; i < n; ++i) {
     // Ctrl-C / SIGTERM (InterruptGuard): stop reading, keep what is tracked.
     if ((interrupted_by = InterruptGuard::signalReceived()) != 0) {
@@ -109,8 +110,9 @@ RunSummary runSlam(const RunOptions& opt) {
     }
     const FrameOutcome out = slam.process(frame);
     rec.timestamp = frame.timestamp;
-    rec.track_ms = latestStageMs(slam.times(), "track", i);
-    rec.frame_total_ms = latestStageMs(slam.times(), "frame_total", i);
+    rec.track_ms = latestStageMs(slam.times(), "track", processed);
+    rec.frame_total_ms = latestStageMs(slam.times(), "frame_total", processed);
+    ++processed;
     rec.has_pose = out.track.has_pose;
     rec.lost = out.track.state == TrackingState::kLost;
     record.addFrame(rec);
