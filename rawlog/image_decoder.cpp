@@ -229,8 +229,14 @@ cv::Mat decodeOther(const std::string& path, DecodedImage as) {
 }  // namespace
 
 cv::Mat decodeImageFile(const std::string& path, DecodedImage as) {
-  std::ifstream file(path, std::ios::binary);
+  std::ifstream file(path, std::ios::binary | std::ios::ate);
   if (!file) throw InputError(path, "cannot open image");
+  const std::uint64_t size = static_cast<std::uint64_t>(file.tellg());
+  if (size > kMaxImageFileBytes)
+    throw InputError(path, "image file of " + std::to_string(size) +
+                               " bytes is too large (at most " +
+                               std::to_string(kMaxImageFileBytes) + ")");
+  file.seekg(0);
   const std::vector<unsigned char> bytes{std::istreambuf_iterator<char>(file),
                                          std::istreambuf_iterator<char>()};
   if (file.bad()) throw InputError(path, "cannot read image");

@@ -6,6 +6,7 @@
 // InputError naming the file, and nothing reaches stderr.
 #include <opencv2/core.hpp>
 
+#include <cstdint>
 #include <string>
 
 namespace dynslam {
@@ -20,12 +21,14 @@ enum class DecodedImage {
 /// Largest width or height accepted from a file's header (a corrupt header
 /// must not allocate gigabytes before the data is read).
 constexpr int kMaxImageSide = 16384;
+/// Largest image file read (the whole file is read before decoding).
+constexpr std::uint64_t kMaxImageFileBytes = std::uint64_t(1) << 30;
 
 /// Decodes a PNG or JPEG file (told apart by its first bytes; other formats
 /// go to cv::imread unchecked). Throws InputError(path) if the file cannot be
 /// read, is cut short, holds corrupt data (any libjpeg warning, any libpng
-/// error), claims a side over kMaxImageSide, or (kDepth16) is not 16-bit
-/// single-channel. The pixels are those cv::imread gives for the same file.
+/// error), is over kMaxImageFileBytes, claims a side over kMaxImageSide, or (kDepth16) is not
+/// 16-bit single-channel. The pixels are those cv::imread gives for the same file.
 cv::Mat decodeImageFile(const std::string& path, DecodedImage as);
 
 }  // namespace dynslam

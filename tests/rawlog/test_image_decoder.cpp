@@ -219,3 +219,14 @@ TEST(ImageDecoder, MissingOrUnknownFilesAreErrors) {
   writeBytes(text, "not an image at all");
   EXPECT_NE(decodeError(text, DecodedImage::kBgr8).find("cannot decode image"), std::string::npos);
 }
+
+// A file over 1 GiB named like an image is refused before it is read (the
+// decoder reads the whole file first). Sparse: no disk space is used.
+TEST(ImageDecoder, AnImageFileOverAGibibyteIsNotRead) {
+  dynslam::test::TempDir d;
+  const std::string path = d / "huge.png";
+  writeBytes(path, std::string("\x89PNG\r\n\x1A\n", 8));
+  fs::resize_file(path, dynslam::kMaxImageFileBytes + 1);
+  EXPECT_NE(decodeError(path, DecodedImage::kDepth16).find("bytes is too large"),
+            std::string::npos);
+}
