@@ -2,8 +2,6 @@
 
 #include <opencv2/imgproc.hpp>
 
-#include <algorithm>
-#include <array>
 #include <cstdint>
 #include <fstream>
 

@@ -3,7 +3,6 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include <csetjmp>
-#include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <iterator>
@@ -19,11 +18,6 @@
 namespace dynslam {
 
 namespace {
-
-/// Where a library's message is kept until the decoder has unwound.
-struct DecodeFailure {
-  std::string what;
-};
 
 std::string sizeMessage(unsigned long width, unsigned long height) {
   return "image header claims " + std::to_string(width) + " x " + std::to_string(height) +

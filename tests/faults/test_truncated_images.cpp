@@ -14,18 +14,6 @@ using namespace dynslam::test;
 namespace fs = std::filesystem;
 
 namespace {
-/// Damages the middle of a JPEG's compressed data (restart markers the file
-/// does not use, as a bad sector or a flipped bit leaves); its end marker
-/// survives, so only decoding can tell.
-void damageJpegData(const std::string& path) {
-  std::string bytes = readText(path);
-  for (std::size_t k = 0; k < 8; k += 2) {
-    bytes[bytes.size() / 2 + k] = '\xFF';
-    bytes[bytes.size() / 2 + k + 1] = '\xD3';
-  }
-  writeText(path, bytes);
-}
-
 /// stderr lines a library printed (libjpeg's and libpng's start this way;
 /// dynslam's own lines start with "dynslam").
 int libraryLines(const std::string& err) {

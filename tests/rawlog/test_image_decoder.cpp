@@ -9,8 +9,6 @@
 #include <algorithm>
 
 #include <filesystem>
-#include <fstream>
-#include <iterator>
 #include <string>
 #include <vector>
 
@@ -22,6 +20,9 @@ namespace fs = std::filesystem;
 using dynslam::DecodedImage;
 using dynslam::decodeImageFile;
 using dynslam::InputError;
+using dynslam::test::damageJpegData;
+using dynslam::test::readText;
+using dynslam::test::writeText;
 
 namespace {
 
@@ -35,15 +36,6 @@ std::vector<std::string> sortedFiles(const std::string& dir) {
   for (const auto& e : fs::directory_iterator(dir)) files.push_back(e.path().string());
   std::sort(files.begin(), files.end());
   return files;
-}
-
-std::string readBytes(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
-void writeBytes(const std::string& path, const std::string& bytes) {
-  std::ofstream(path, std::ios::binary) << bytes;
 }
 
 bool samePixels(const cv::Mat& a, const cv::Mat& b) {
@@ -61,18 +53,11 @@ std::string decodeError(const std::string& path, DecodedImage as) {
   return "";
 }
 
-/// The first fr1_rpy JPEG with its entropy-coded data damaged in the middle:
-/// 8 bytes there replaced by a restart marker the file does not use (what a
-/// flipped bit or a bad sector leaves). cv::imread still decodes it.
+/// The first fr1_rpy JPEG, copied to `dir` and damaged (damageJpegData).
 std::string damagedJpeg(const std::string& dir) {
-  std::string bytes = readBytes(sortedFiles(rpyDir() + "/rgb")[0]);
-  const std::size_t mid = bytes.size() / 2;
-  for (std::size_t k = 0; k < 8; k += 2) {
-    bytes[mid + k] = '\xFF';
-    bytes[mid + k + 1] = '\xD3';
-  }
   const std::string path = dir + "/damaged.jpg";
-  writeBytes(path, bytes);
+  writeText(path, readText(sortedFiles(rpyDir() + "/rgb")[0]));
+  damageJpegData(path);
   return path;
 }
 
@@ -140,12 +125,12 @@ TEST(ImageDecoder, CorruptJpegDataIsAnErrorNamingTheFile) {
 
 TEST(ImageDecoder, FilesCutShortAreErrors) {
   dynslam::test::TempDir d;
-  const std::string jpeg = readBytes(sortedFiles(rpyDir() + "/rgb")[0]);
-  const std::string png = readBytes(sortedFiles(rpyDir() + "/depth")[0]);
+  const std::string jpeg = readText(sortedFiles(rpyDir() + "/rgb")[0]);
+  const std::string png = readText(sortedFiles(rpyDir() + "/depth")[0]);
   for (const double keep : {0.99, 0.5, 0.01}) {
     const std::string j = d / "cut.jpg", p = d / "cut.png";
-    writeBytes(j, jpeg.substr(0, std::size_t(jpeg.size() * keep)));
-    writeBytes(p, png.substr(0, std::size_t(png.size() * keep)));
+    writeText(j, jpeg.substr(0, std::size_t(jpeg.size() * keep)));
+    writeText(p, png.substr(0, std::size_t(png.size() * keep)));
     testing::internal::CaptureStderr();
     const std::string ej = decodeError(j, DecodedImage::kBgr8);
     const std::string ep = decodeError(p, DecodedImage::kDepth16);
@@ -155,12 +140,12 @@ TEST(ImageDecoder, FilesCutShortAreErrors) {
   }
   // Only the end-of-image marker missing: still cut short.
   const std::string j = d / "noeoi.jpg";
-  writeBytes(j, jpeg.substr(0, jpeg.size() - 2));
+  writeText(j, jpeg.substr(0, jpeg.size() - 2));
   EXPECT_NE(decodeError(j, DecodedImage::kBgr8).find("Premature end of JPEG file"),
             std::string::npos);
   // Bytes after the end marker are padding, not damage.
   const std::string padded = d / "padded.jpg";
-  writeBytes(padded, jpeg + std::string(16, '\0'));
+  writeText(padded, jpeg + std::string(16, '\0'));
   EXPECT_TRUE(samePixels(decodeImageFile(padded, DecodedImage::kBgr8),
                          cv::imread(sortedFiles(rpyDir() + "/rgb")[0], cv::IMREAD_COLOR)));
 }
@@ -169,10 +154,10 @@ TEST(ImageDecoder, FilesCutShortAreErrors) {
 // "libpng error: IDAT: CRC error" through cv::imread.
 TEST(ImageDecoder, CorruptPngDataIsAnErrorWithNothingOnStderr) {
   dynslam::test::TempDir d;
-  std::string png = readBytes(sortedFiles(rpyDir() + "/depth")[0]);
+  std::string png = readText(sortedFiles(rpyDir() + "/depth")[0]);
   png[png.size() / 2] = static_cast<char>(png[png.size() / 2] ^ 0x10);
   const std::string path = d / "crc.png";
-  writeBytes(path, png);
+  writeText(path, png);
   testing::internal::CaptureStderr();
   const std::string error = decodeError(path, DecodedImage::kDepth16);
   EXPECT_EQ(testing::internal::GetCapturedStderr(), "");
@@ -197,7 +182,7 @@ TEST(ImageDecoder, DepthMustBeSixteenBitSingleChannel) {
 TEST(ImageDecoder, AHeaderClaimingAHugeSizeIsRefused) {
   dynslam::test::TempDir d;
   // JPEG: the SOF0 segment's height and width (big-endian 16-bit) set to 65000.
-  std::string jpeg = readBytes(sortedFiles(rpyDir() + "/rgb")[0]);
+  std::string jpeg = readText(sortedFiles(rpyDir() + "/rgb")[0]);
   const std::size_t sof = jpeg.find("\xFF\xC0");
   ASSERT_NE(sof, std::string::npos);
   for (std::size_t k : {5u, 7u}) {
@@ -205,7 +190,7 @@ TEST(ImageDecoder, AHeaderClaimingAHugeSizeIsRefused) {
     jpeg[sof + k + 1] = '\xE8';
   }
   const std::string j = d / "huge.jpg";
-  writeBytes(j, jpeg);
+  writeText(j, jpeg);
   EXPECT_NE(decodeError(j, DecodedImage::kBgr8).find("image header claims 65000 x 65000 pixels"),
             std::string::npos)
       << decodeError(j, DecodedImage::kBgr8);
@@ -216,7 +201,7 @@ TEST(ImageDecoder, MissingOrUnknownFilesAreErrors) {
   EXPECT_NE(decodeError(d / "none.png", DecodedImage::kBgr8).find("cannot open image"),
             std::string::npos);
   const std::string text = d / "text.png";
-  writeBytes(text, "not an image at all");
+  writeText(text, "not an image at all");
   EXPECT_NE(decodeError(text, DecodedImage::kBgr8).find("cannot decode image"), std::string::npos);
 }
 
@@ -225,7 +210,7 @@ TEST(ImageDecoder, MissingOrUnknownFilesAreErrors) {
 TEST(ImageDecoder, AnImageFileOverAGibibyteIsNotRead) {
   dynslam::test::TempDir d;
   const std::string path = d / "huge.png";
-  writeBytes(path, std::string("\x89PNG\r\n\x1A\n", 8));
+  writeText(path, std::string("\x89PNG\r\n\x1A\n", 8));
   fs::resize_file(path, dynslam::kMaxImageFileBytes + 1);
   EXPECT_NE(decodeError(path, DecodedImage::kDepth16).find("bytes is too large"),
             std::string::npos);

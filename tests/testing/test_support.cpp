@@ -102,6 +102,15 @@ std::string readText(const std::string& path) {
   return ss.str();
 }
 
+void damageJpegData(const std::string& path) {
+  std::string bytes = readText(path);
+  for (std::size_t k = 0; k < 8; k += 2) {
+    bytes[bytes.size() / 2 + k] = '\xFF';
+    bytes[bytes.size() / 2 + k + 1] = '\xD3';
+  }
+  writeText(path, bytes);
+}
+
 mrpt::poses::CPose3D poseFromColumns(const double* x, const double* y, const double* z,
                                      const double* centre) {
   mrpt::math::CMatrixDouble33 R;

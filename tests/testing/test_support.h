@@ -65,6 +65,11 @@ cv::FileStorage openRunReport(const std::string& run_dir);
 void writeText(const std::string& path, const std::string& content);
 /// The whole file, byte for byte ("" when it cannot be opened).
 std::string readText(const std::string& path);
+/// Damages the middle of a JPEG's compressed data in place: 8 bytes become
+/// restart markers the file does not use, as a bad sector or a flipped bit
+/// leaves. Its end marker survives (only decoding can tell), and cv::imread
+/// still decodes it.
+void damageJpegData(const std::string& path);
 /// Camera-to-world pose whose rotation has the columns x, y, z (the camera
 /// axes in the world) and whose centre is `centre` (3 values each). Each
 /// test derives the axes with its own look-at convention; render/'s
