@@ -7,7 +7,6 @@
 
 #include <zlib.h>
 
-#include "core/atomic_file.h"
 #include "core/errors.h"
 #include "rawlog/image_decoder.h"
 
@@ -56,14 +55,12 @@ void checkDepthMatrixFile(const std::string& path) {
                                ")");
 }
 
-cv::Mat readRgbImage(const std::string& path) {
-  requireRegularFile(path, "RGB image");
-  return decodeImageFile(path, DecodedImage::kBgr8);
+cv::Mat readRgbImage(const std::string& path, const std::string& what) {
+  return decodeImageFile(path, DecodedImage::kBgr8, what);
 }
 
 cv::Mat readDepthImage(const std::string& path) {
-  requireRegularFile(path, "depth image");
-  return decodeImageFile(path, DecodedImage::kDepth16);
+  return decodeImageFile(path, DecodedImage::kDepth16, "depth image");
 }
 
 cv::Mat toBgr8(const cv::Mat& image, const std::string& source) {

@@ -18,8 +18,8 @@ namespace dynslam {
 void checkDepthMatrixFile(const std::string& path);
 
 /// An RGB image file as 8-bit BGR (decodeImageFile); throws InputError(path)
-/// if missing, cut short, corrupt or undecodable.
-cv::Mat readRgbImage(const std::string& path);
+/// if missing (named `what`), cut short, corrupt or undecodable.
+cv::Mat readRgbImage(const std::string& path, const std::string& what = "RGB image");
 
 /// A depth image file as CV_16UC1 (decodeImageFile); throws InputError(path)
 /// if missing, cut short, corrupt, undecodable or not 16-bit single-channel.

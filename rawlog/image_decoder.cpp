@@ -12,6 +12,7 @@
 #include <jpeglib.h>
 #include <png.h>
 
+#include "core/atomic_file.h"
 #include "core/errors.h"
 #include "rawlog/image_checks.h"
 
@@ -222,7 +223,8 @@ cv::Mat decodeOther(const std::string& path, DecodedImage as) {
 
 }  // namespace
 
-cv::Mat decodeImageFile(const std::string& path, DecodedImage as) {
+cv::Mat decodeImageFile(const std::string& path, DecodedImage as, const std::string& what) {
+  requireRegularFile(path, what);
   std::ifstream file(path, std::ios::binary | std::ios::ate);
   if (!file) throw InputError(path, "cannot open image");
   const std::uint64_t size = static_cast<std::uint64_t>(file.tellg());

@@ -25,10 +25,13 @@ constexpr int kMaxImageSide = 16384;
 constexpr std::uint64_t kMaxImageFileBytes = std::uint64_t(1) << 30;
 
 /// Decodes a PNG or JPEG file (told apart by its first bytes; other formats
-/// go to cv::imread unchecked). Throws InputError(path) if the file cannot be
+/// go to cv::imread unchecked). Throws InputError(path) if the path is not a
+/// regular file (missing, a folder, a pipe or a device: the error names it as
+/// `what`, and nothing is opened, so a pipe cannot block the run), cannot be
 /// read, is cut short, holds corrupt data (any libjpeg warning, any libpng
 /// error), is over kMaxImageFileBytes, claims a side over kMaxImageSide, or (kDepth16) is not
 /// 16-bit single-channel. The pixels are those cv::imread gives for the same file.
-cv::Mat decodeImageFile(const std::string& path, DecodedImage as);
+cv::Mat decodeImageFile(const std::string& path, DecodedImage as,
+                        const std::string& what = "PNG or JPEG image");
 
 }  // namespace dynslam

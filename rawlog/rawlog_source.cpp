@@ -119,9 +119,7 @@ RGBDFrame RawlogSource::load(std::size_t i) const {
   // RGB: an external file is decoded here, as a TUM folder's (MRPT's lazy
   // load decodes a corrupt JPEG without a word); an embedded one is MRPT's.
   if (s.intensityImage.isExternallyStored()) {
-    if (!fileExists(f.rgb_source))
-      throw InputError(f.rgb_source, "external RGB image of the rawlog not found");
-    f.rgb = readRgbImage(f.rgb_source);
+    f.rgb = readRgbImage(f.rgb_source, "rawlog's external RGB image");
   } else {
     try {
       f.rgb = toBgr8(s.intensityImage.asCvMatRef(), f.rgb_source).clone();
@@ -134,8 +132,7 @@ RGBDFrame RawlogSource::load(std::size_t i) const {
 
   // Depth: the raw uint16 matrix, loaded by MRPT if external.
   if (s.rangeImage_isExternallyStored()) {
-    if (!fileExists(f.depth_source))
-      throw InputError(f.depth_source, "external depth matrix of the rawlog not found");
+    requireRegularFile(f.depth_source, "rawlog's external depth matrix");
     checkDepthMatrixFile(f.depth_source);
   }
   try {

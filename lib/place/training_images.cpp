@@ -5,7 +5,6 @@
 #include <filesystem>
 #include <stdexcept>
 
-#include "core/atomic_file.h"
 #include "core/errors.h"
 #include "rawlog/image_decoder.h"
 #include "rawlog/sequence_source.h"
@@ -70,8 +69,7 @@ std::vector<cv::Mat> extractTrainingDescriptors(
   out.reserve(images.size());
   std::vector<cv::KeyPoint> keypoints;
   for (const std::string& path : images) {
-    requireRegularFile(path, "training image");
-    const cv::Mat gray = decodeImageFile(path, DecodedImage::kGray8);
+    const cv::Mat gray = decodeImageFile(path, DecodedImage::kGray8, "training image");
     cv::Mat descriptors;
     extractor.extract(gray, keypoints, descriptors);
     out.push_back(descriptors);

@@ -3,6 +3,8 @@
 // most a libjpeg line on stderr. Every reader rejects them with one error
 // line naming the file and no library line: `run` on a TUM folder and on a
 // rawlog's external images, `convert`, `vocab train`. Nothing is written.
+// A pipe in place of an image is refused the same way.
+#include <sys/stat.h>
 #include <zlib.h>
 
 #include <filesystem>
@@ -120,6 +122,27 @@ TEST(TruncatedImages, RunRejectsTruncatedExternalRawlogDepth) {
       runDynslamSplit({"run", d / "x.rawlog", "-o", d / "out", "--mode", "off"});
   expectHandledFault(r, 1, fs::path(depth).filename().string());
   EXPECT_FALSE(fs::exists(d / "out/trajectory.txt"));
+}
+
+// A pipe in place of a rawlog's external image is refused by its kind: the
+// depth matrix was reported missing, and a pipe given as the RGB image was
+// opened for reading (which waits for a writer).
+TEST(TruncatedImages, RunRejectsAPipeInPlaceOfAnExternalRawlogFile) {
+  for (const std::string prefix : {"rgb_000002_", "depth_000003_"}) {
+    TempDir d;
+    const MiniTum tum = makeMiniTum(d.path(), 5);
+    const std::string file = convertedExternalFile(d, tum, prefix);
+    ASSERT_FALSE(file.empty());
+    fs::remove(file);
+    ASSERT_EQ(mkfifo(file.c_str(), 0600), 0);
+    const SplitCommandResult r =
+        runDynslamSplit({"run", d / "x.rawlog", "-o", d / "out", "--mode", "off"});
+    expectHandledFault(r, 1, fs::path(file).filename().string());
+    EXPECT_NE(r.err.find("not a regular file (a device or a pipe), expected a rawlog's external"),
+              std::string::npos)
+        << r.err;
+    EXPECT_FALSE(fs::exists(d / "out/trajectory.txt"));
+  }
 }
 
 TEST(TruncatedImages, RunRejectsCorruptJpegData) {

@@ -2,6 +2,7 @@
 // files: the pixels must agree), and against damaged files that cv::imread
 // decodes without a word or with a library line on stderr.
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
@@ -43,9 +44,10 @@ bool samePixels(const cv::Mat& a, const cv::Mat& b) {
 }
 
 /// The message of the InputError that decoding throws ("" if none).
-std::string decodeError(const std::string& path, DecodedImage as) {
+std::string decodeError(const std::string& path, DecodedImage as,
+                        const std::string& what = "PNG or JPEG image") {
   try {
-    decodeImageFile(path, as);
+    decodeImageFile(path, as, what);
   } catch (const InputError& e) {
     EXPECT_EQ(e.file(), path);
     return e.what();
@@ -198,11 +200,29 @@ TEST(ImageDecoder, AHeaderClaimingAHugeSizeIsRefused) {
 
 TEST(ImageDecoder, MissingOrUnknownFilesAreErrors) {
   dynslam::test::TempDir d;
-  EXPECT_NE(decodeError(d / "none.png", DecodedImage::kBgr8).find("cannot open image"),
+  EXPECT_NE(decodeError(d / "none.png", DecodedImage::kBgr8).find("PNG or JPEG image not found"),
             std::string::npos);
   const std::string text = d / "text.png";
   writeText(text, "not an image at all");
   EXPECT_NE(decodeError(text, DecodedImage::kBgr8).find("cannot decode image"), std::string::npos);
+}
+
+// A folder or a pipe named like an image is refused by its kind, before it
+// is opened: opening a pipe for reading would wait for a writer for ever.
+TEST(ImageDecoder, FoldersAndPipesAreRefusedBeforeTheyAreOpened) {
+  dynslam::test::TempDir d;
+  const std::string folder = d / "folder.png";
+  fs::create_directories(folder);
+  EXPECT_NE(
+      decodeError(folder, DecodedImage::kBgr8).find("is a folder, expected a PNG or JPEG image"),
+      std::string::npos);
+  const std::string pipe = d / "pipe.png";
+  ASSERT_EQ(mkfifo(pipe.c_str(), 0600), 0);
+  EXPECT_NE(
+      decodeError(pipe, DecodedImage::kDepth16).find("not a regular file (a device or a pipe)"),
+      std::string::npos);
+  EXPECT_NE(decodeError(pipe, DecodedImage::kDepth16, "depth image").find("expected a depth image"),
+            std::string::npos);
 }
 
 // A file over 1 GiB named like an image is refused before it is read (the
