@@ -56,7 +56,7 @@ void writeExportOrigin(JsonWriter& j, const RunDirectory& run, const FrameSource
 
 std::string exportReportPath(const std::string& out_path) {
   fs::path p(out_path);
-  return (p.parent_path() / (p.stem().string() + ".export.json")).string();
+  return (p.parent_path() / (p.filename().string() + ".export.json")).string();
 }
 
 namespace {

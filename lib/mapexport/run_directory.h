@@ -91,7 +91,9 @@ struct ExportResult {
 void writeExportOrigin(JsonWriter& j, const RunDirectory& run, const FrameSource& source,
                        const std::string& out_path);
 
-/// MAP.ply -> MAP.export.json (same folder, extension replaced).
+/// MAP.ply -> MAP.ply.export.json (same folder): each map file has its own
+/// report, so MAP.ply, MAP.glb, MAP.bt and MAP.yaml exported side by side
+/// keep theirs.
 std::string exportReportPath(const std::string& out_path);
 
 /// Fuses every keyframe of `run` found in `source` (|dt| < 1e-4 s) with its

@@ -1,12 +1,13 @@
 #pragma once
 // `dynslam export RUN -o MAP.bt | MAP.yaml`: a finished run's keyframes
 // (run_keyframes.h: final poses, dynamic masks) ray cast into the static
-// scene's OctoMap (occupancy_map_builder.h), written as .bt, or projected
-// into the ROS map_server 2D grid between the floor and the robot's height
-// (occupancy_grid.h, map_server_io.h). The report MAP.export.json gives the
-// cell counts, the up direction and floor height used, the phase times and,
-// with ground-truth masks, the share of occupied cells inside the people's
-// swept volume; given a reference map, the overlap with it.
+// scene's OctoMap (occupancy_map_builder.h), written as .bt, or projected into
+// the ROS map_server 2D grid between the floor and the robot's height
+// (occupancy_grid.h, map_server_io.h). The report MAP.bt.export.json
+// (MAP.yaml.export.json) gives the cell counts, the up direction and floor
+// height used, the phase times and, with ground-truth masks, the share of
+// occupied cells inside the people's swept volume; given a reference map, the
+// overlap with it.
 #include <map>
 #include <optional>
 #include <string>

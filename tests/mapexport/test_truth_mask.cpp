@@ -246,7 +246,7 @@ TEST(ExportTruth, ReportHasTheKnownWalkerShare) {
   ASSERT_TRUE(r.sparse_truth);
   EXPECT_EQ(r.sparse_truth->points, 4u);
   EXPECT_EQ(r.sparse_truth->walker_points, 1u);
-  EXPECT_EQ(r.report_path, dir / "out/map.export.json");
+  EXPECT_EQ(r.report_path, dir / "out/map.ply.export.json");
   const std::string report = readText(r.report_path);
   char expected[64];
   std::snprintf(expected, sizeof expected, "%.10g", 80.0 / (kW * kH));
@@ -261,6 +261,21 @@ TEST(ExportTruth, ReportHasTheKnownWalkerShare) {
   }
 }
 
+// One run exported to two formats side by side: each map file keeps its own
+// report (both were MAP.export.json, the second export's overwriting the
+// first's).
+TEST(ExportTruth, EachMapFileKeepsItsOwnReport) {
+  TempDir dir;
+  writeRun(dir);
+  for (const std::string ext : {"ply", "glb"})
+    exportRun(readRunDirectory(dir / "run"), SequenceSource(dir / "seq", 5),
+              dir / ("out/map." + ext), rawOptions());
+  for (const std::string ext : {"ply", "glb"}) {
+    const std::string report = readText(dir / ("out/map." + ext + ".export.json"));
+    EXPECT_NE(report.find("map." + ext + "\""), std::string::npos) << report;
+  }
+}
+
 TEST(ExportTruth, WithoutMasksFolderTheReportHasNoShare) {
   TempDir dir;
   writeRun(dir, /*with_masks=*/false);
@@ -268,7 +283,7 @@ TEST(ExportTruth, WithoutMasksFolderTheReportHasNoShare) {
                                    dir / "map.ply", rawOptions());
   EXPECT_FALSE(r.dense_truth);
   EXPECT_TRUE(r.truth_masks_dir.empty());
-  const std::string report = readText(dir / "map.export.json");
+  const std::string report = readText(dir / "map.ply.export.json");
   EXPECT_NE(report.find("\"points_written\""), std::string::npos);
   EXPECT_EQ(report.find("walker_mask_share"), std::string::npos);
   // Explicitly switched off although masks exist.
@@ -288,7 +303,7 @@ TEST(ExportTruth, BadMasksAreNamedAndNothingIsWritten) {
   };
   auto nothingWritten = [](const TempDir& dir) {
     EXPECT_FALSE(std::filesystem::exists(dir / "out/map.ply"));
-    EXPECT_FALSE(std::filesystem::exists(dir / "out/map.export.json"));
+    EXPECT_FALSE(std::filesystem::exists(dir / "out/map.ply.export.json"));
   };
   {  // missing mask of keyframe t = 4
     TempDir dir;

@@ -104,7 +104,7 @@ TEST_F(OccupancyExportCli, OctoMapWithReportAndPersonMaskedOrKept) {
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const auto tree = readOctoMapFile(out / "map.bt");
   EXPECT_DOUBLE_EQ(tree->getResolution(), 0.05);
-  const std::string report = test::readText(out / "map.export.json");
+  const std::string report = test::readText(out / "map.bt.export.json");
   EXPECT_EQ(jsonNumber(report, "keyframes"), 30);
   EXPECT_EQ(jsonNumber(report, "occupied_cells"), double(occupiedCells(*tree).size()));
   EXPECT_GT(jsonNumber(report, "free_cells"), 10000);
@@ -117,7 +117,7 @@ TEST_F(OccupancyExportCli, OctoMapWithReportAndPersonMaskedOrKept) {
   const auto kept =
       test::runDynslam(args(out / "kept.bt", {"--no-masks", "--compare", out / "ref.bt"}));
   ASSERT_EQ(kept.exit_code, 0) << kept.output;
-  const std::string kept_report = test::readText(out / "kept.export.json");
+  const std::string kept_report = test::readText(out / "kept.bt.export.json");
   EXPECT_GT(jsonNumber(kept_report, "walker_cells"), 100) << kept_report;
   EXPECT_LT(jsonNumber(kept_report, "map_share_in_reference"), 0.99) << kept_report;
   // And it renders.
@@ -138,7 +138,7 @@ TEST_F(OccupancyExportCli, GridPairAndReport) {
   EXPECT_NEAR(img.rows, 62, 2);
   EXPECT_GT(cv::countNonZero(img == 0), 250);     // walls: 2 x (80 + 60) cells
   EXPECT_GT(cv::countNonZero(img == 254), 3000);  // floor
-  const std::string report = test::readText(out / "grid.export.json");
+  const std::string report = test::readText(out / "grid.yaml.export.json");
   EXPECT_EQ(jsonNumber(report, "max_height_above_floor"), 1.0);
   EXPECT_EQ(jsonNumber(report, "width"), img.cols);
   EXPECT_TRUE(test::readText(out / "grid.yaml").find("image: grid.pgm") != std::string::npos);
