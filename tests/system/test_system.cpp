@@ -616,7 +616,13 @@ TEST(SystemRpy, RelocalisesAfterAJumpAcrossTheSequence) {
 // pair 300's pose), while the whole-sequence run, whose map saw that wall
 // from 300 earlier frames (~350 inliers from 20+ keyframes), keeps pairs
 // 331..338 within 1.5 cm. So tracking a young map's far points (one Kinect
-// depth each) is the defect, not the relocalisation. Enable when fixed.
+// depth each) is the defect, not the relocalisation. In the run of pairs
+// 300..339 the single-frame jumps (4-6 cm) are made in the motion-model stage
+// from predictions with 11-101 of 135-174 matches within the threshold, and
+// the matches themselves prefer the displaced pose: the final inliers
+// re-optimised from the prediction land there, and a first round that only
+// turns the camera changes nothing (docs/benchmarks.md, eighth stop).
+// Enable when fixed.
 TEST(SystemRpy, DISABLED_TracksToTheEndAfterARelocalisation) {
   TempDir d;
   const GapRun g = runGap(d, 300, 340);
