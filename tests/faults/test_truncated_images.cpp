@@ -39,24 +39,30 @@ std::string convertedExternalFile(const TempDir& d, const MiniTum& tum, const st
   ADD_FAILURE() << "no " << prefix << " in " << ::testing::PrintToString(entriesIn(d / "x_Images"));
   return "";
 }
+
+/// `run INPUT -o d/out --mode off` refused: exit 1, one error line naming
+/// `named`, no trajectory written.
+SplitCommandResult runRefused(const TempDir& d, const std::string& input,
+                              const std::string& named) {
+  const SplitCommandResult r = runDynslamSplit({"run", input, "-o", d / "out", "--mode", "off"});
+  expectHandledFault(r, 1, named);
+  EXPECT_FALSE(fs::exists(d / "out/trajectory.txt"));
+  return r;
+}
 }  // namespace
 
 TEST(TruncatedImages, RunRejectsTruncatedJpeg) {
   TempDir d;
   const MiniTum tum = makeMiniTum(d.path(), 6);
   truncateFile(tum.rgb[3], 0.5);
-  const SplitCommandResult r = runDynslamSplit({"run", tum.dir, "-o", d / "out", "--mode", "off"});
-  expectHandledFault(r, 1, tum.rgb[3]);
-  EXPECT_FALSE(fs::exists(d / "out/trajectory.txt"));
+  runRefused(d, tum.dir, tum.rgb[3]);
 }
 
 TEST(TruncatedImages, RunRejectsTruncatedDepthPng) {
   TempDir d;
   const MiniTum tum = makeMiniTum(d.path(), 6);
   truncateFile(tum.depth[2], 0.5);
-  const SplitCommandResult r = runDynslamSplit({"run", tum.dir, "-o", d / "out", "--mode", "off"});
-  expectHandledFault(r, 1, tum.depth[2]);
-  EXPECT_FALSE(fs::exists(d / "out/trajectory.txt"));
+  runRefused(d, tum.dir, tum.depth[2]);
 }
 
 // A PNG whose header claims 100000 x 100000 pixels: OpenCV's size limit
@@ -71,11 +77,9 @@ TEST(TruncatedImages, RunRejectsAPngClaimingAHugeSize) {
   const uLong crc = crc32(0, reinterpret_cast<const Bytef*>(png.data() + 12), 17);
   for (int k = 0; k < 4; ++k) png[29 + k] = static_cast<char>((crc >> (24 - 8 * k)) & 0xff);
   writeText(tum.depth[2], png);
-  const SplitCommandResult r = runDynslamSplit({"run", tum.dir, "-o", d / "out", "--mode", "off"});
-  expectHandledFault(r, 1, tum.depth[2]);
+  const SplitCommandResult r = runRefused(d, tum.dir, tum.depth[2]);
   // The size limit, not a bad checksum, stopped it.
   EXPECT_NE(r.err.find("image header claims 100000 x 100000 pixels"), std::string::npos) << r.err;
-  EXPECT_FALSE(fs::exists(d / "out/trajectory.txt"));
 }
 
 TEST(TruncatedImages, ConvertRejectsTruncatedJpeg) {
@@ -106,10 +110,7 @@ TEST(TruncatedImages, RunRejectsTruncatedExternalRawlogImage) {
   const std::string rgb = convertedExternalFile(d, tum, "rgb_000002_");
   ASSERT_FALSE(rgb.empty());
   truncateFile(rgb, 0.5);
-  const SplitCommandResult r =
-      runDynslamSplit({"run", d / "x.rawlog", "-o", d / "out", "--mode", "off"});
-  expectHandledFault(r, 1, fs::path(rgb).filename().string());
-  EXPECT_FALSE(fs::exists(d / "out/trajectory.txt"));
+  runRefused(d, d / "x.rawlog", fs::path(rgb).filename().string());
 }
 
 TEST(TruncatedImages, RunRejectsTruncatedExternalRawlogDepth) {
@@ -118,10 +119,7 @@ TEST(TruncatedImages, RunRejectsTruncatedExternalRawlogDepth) {
   const std::string depth = convertedExternalFile(d, tum, "depth_000003_");
   ASSERT_FALSE(depth.empty());
   truncateFile(depth, 0.5);
-  const SplitCommandResult r =
-      runDynslamSplit({"run", d / "x.rawlog", "-o", d / "out", "--mode", "off"});
-  expectHandledFault(r, 1, fs::path(depth).filename().string());
-  EXPECT_FALSE(fs::exists(d / "out/trajectory.txt"));
+  runRefused(d, d / "x.rawlog", fs::path(depth).filename().string());
 }
 
 // A pipe in place of a rawlog's external image is refused by its kind: the
@@ -135,13 +133,10 @@ TEST(TruncatedImages, RunRejectsAPipeInPlaceOfAnExternalRawlogFile) {
     ASSERT_FALSE(file.empty());
     fs::remove(file);
     ASSERT_EQ(mkfifo(file.c_str(), 0600), 0);
-    const SplitCommandResult r =
-        runDynslamSplit({"run", d / "x.rawlog", "-o", d / "out", "--mode", "off"});
-    expectHandledFault(r, 1, fs::path(file).filename().string());
+    const SplitCommandResult r = runRefused(d, d / "x.rawlog", fs::path(file).filename().string());
     EXPECT_NE(r.err.find("not a regular file (a device or a pipe), expected a rawlog's external"),
               std::string::npos)
         << r.err;
-    EXPECT_FALSE(fs::exists(d / "out/trajectory.txt"));
   }
 }
 
@@ -149,11 +144,9 @@ TEST(TruncatedImages, RunRejectsCorruptJpegData) {
   TempDir d;
   const MiniTum tum = makeMiniTum(d.path(), 6);
   damageJpegData(tum.rgb[4]);
-  const SplitCommandResult r = runDynslamSplit({"run", tum.dir, "-o", d / "out", "--mode", "off"});
-  expectHandledFault(r, 1, tum.rgb[4]);
+  const SplitCommandResult r = runRefused(d, tum.dir, tum.rgb[4]);
   EXPECT_NE(r.err.find("Corrupt JPEG data"), std::string::npos) << r.err;
   EXPECT_EQ(libraryLines(r.err), 0) << r.err;
-  EXPECT_FALSE(fs::exists(d / "out/trajectory.txt"));
 }
 
 // convert copies the RGB files as they are: a rawlog of fr1_rpy refers to
@@ -164,12 +157,9 @@ TEST(TruncatedImages, RunRejectsCorruptExternalRawlogJpeg) {
   const std::string rgb = convertedExternalFile(d, tum, "rgb_000002_");
   ASSERT_EQ(fs::path(rgb).extension(), ".jpg") << rgb;
   damageJpegData(rgb);
-  const SplitCommandResult r =
-      runDynslamSplit({"run", d / "x.rawlog", "-o", d / "out", "--mode", "off"});
-  expectHandledFault(r, 1, fs::path(rgb).filename().string());
+  const SplitCommandResult r = runRefused(d, d / "x.rawlog", fs::path(rgb).filename().string());
   EXPECT_NE(r.err.find("Corrupt JPEG data"), std::string::npos) << r.err;
   EXPECT_EQ(libraryLines(r.err), 0) << r.err;
-  EXPECT_FALSE(fs::exists(d / "out/trajectory.txt"));
 }
 
 // One bit of a depth PNG's image data flipped: its checksum fails. libpng
@@ -180,9 +170,7 @@ TEST(TruncatedImages, RunRejectsCorruptDepthPngWithoutLibraryLines) {
   std::string bytes = readText(tum.depth[3]);
   bytes[bytes.size() / 2] = static_cast<char>(bytes[bytes.size() / 2] ^ 0x10);
   writeText(tum.depth[3], bytes);
-  const SplitCommandResult r = runDynslamSplit({"run", tum.dir, "-o", d / "out", "--mode", "off"});
-  expectHandledFault(r, 1, tum.depth[3]);
+  const SplitCommandResult r = runRefused(d, tum.dir, tum.depth[3]);
   EXPECT_NE(r.err.find("IDAT: CRC error"), std::string::npos) << r.err;
   EXPECT_EQ(libraryLines(r.err), 0) << r.err;
-  EXPECT_FALSE(fs::exists(d / "out/trajectory.txt"));
 }
