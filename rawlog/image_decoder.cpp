@@ -4,8 +4,6 @@
 
 #include <csetjmp>
 #include <cstring>
-#include <fstream>
-#include <vector>
 
 #include <jerror.h>
 #include <jpeglib.h>
@@ -55,8 +53,8 @@ void jpegMessage(j_common_ptr cinfo, int level) {
 /// in this frame, so the longjmp of an error skips nothing. Returns false
 /// with e.message set on failure, or true with `header_error` set when the
 /// header was read and refused.
-bool decodeJpegInto(const std::vector<unsigned char>& bytes, DecodedImage as, cv::Mat& out,
-                    JpegErrors& e, std::string& header_error) {
+bool decodeJpegInto(const std::string& bytes, DecodedImage as, cv::Mat& out, JpegErrors& e,
+                    std::string& header_error) {
   jpeg_decompress_struct cinfo;
   cinfo.err = jpeg_std_error(&e.mgr);
   e.mgr.error_exit = jpegFail;
@@ -66,7 +64,8 @@ bool decodeJpegInto(const std::vector<unsigned char>& bytes, DecodedImage as, cv
     return false;
   }
   jpeg_create_decompress(&cinfo);
-  jpeg_mem_src(&cinfo, bytes.data(), static_cast<unsigned long>(bytes.size()));
+  jpeg_mem_src(&cinfo, reinterpret_cast<const unsigned char*>(bytes.data()),
+               static_cast<unsigned long>(bytes.size()));
   jpeg_read_header(&cinfo, TRUE);
   if (cinfo.image_width > unsigned(kMaxImageSide) || cinfo.image_height > unsigned(kMaxImageSide)) {
     header_error = sizeMessage(cinfo.image_width, cinfo.image_height);
@@ -94,8 +93,7 @@ bool decodeJpegInto(const std::vector<unsigned char>& bytes, DecodedImage as, cv
   return true;
 }
 
-cv::Mat decodeJpeg(const std::string& path, const std::vector<unsigned char>& bytes,
-                   DecodedImage as) {
+cv::Mat decodeJpeg(const std::string& path, const std::string& bytes, DecodedImage as) {
   JpegErrors e{};
   cv::Mat out;
   std::string header_error;
@@ -112,7 +110,7 @@ cv::Mat decodeJpeg(const std::string& path, const std::vector<unsigned char>& by
 // ancillary chunks, which it then skips: those are dropped in silence.
 
 struct PngInput {
-  const std::vector<unsigned char>* bytes = nullptr;
+  const std::string* bytes = nullptr;
   std::size_t at = 0;
   std::string message;
 };
@@ -191,8 +189,7 @@ bool decodePngInto(PngInput& in, DecodedImage as, cv::Mat& out, std::string& hea
   return true;
 }
 
-cv::Mat decodePng(const std::string& path, const std::vector<unsigned char>& bytes,
-                  DecodedImage as) {
+cv::Mat decodePng(const std::string& path, const std::string& bytes, DecodedImage as) {
   PngInput in;
   in.bytes = &bytes;
   cv::Mat out;
@@ -223,25 +220,11 @@ cv::Mat decodeOther(const std::string& path, DecodedImage as) {
 }  // namespace
 
 cv::Mat decodeImageFile(const std::string& path, DecodedImage as, const std::string& what) {
-  requireRegularFile(path, what);
-  std::ifstream file(path, std::ios::binary | std::ios::ate);
-  if (!file) throw InputError(path, "cannot open image");
-  const std::uint64_t size = static_cast<std::uint64_t>(file.tellg());
-  if (size > kMaxImageFileBytes)
-    throw InputError(path, "image file of " + std::to_string(size) +
-                               " bytes is too large (at most " +
-                               std::to_string(kMaxImageFileBytes) + ")");
-  file.seekg(0);
-  // One read of the whole file: a character-by-character copy through
-  // istreambuf_iterator took a tenth of a PNG's decoding time.
-  std::vector<unsigned char> bytes(static_cast<std::size_t>(size));
-  file.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(size));
-  if (file.gcount() != static_cast<std::streamsize>(size))
-    throw InputError(path, "cannot read image");
+  const std::string bytes = readRegularFile(path, what, kMaxImageFileBytes);
   static const unsigned char kPng[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n'};
   if (bytes.size() >= 8 && std::memcmp(bytes.data(), kPng, 8) == 0)
     return decodePng(path, bytes, as);
-  if (bytes.size() >= 3 && bytes[0] == 0xFF && bytes[1] == 0xD8 && bytes[2] == 0xFF)
+  if (bytes.size() >= 3 && bytes.compare(0, 3, "\xFF\xD8\xFF") == 0)
     return decodeJpeg(path, bytes, as);
   return decodeOther(path, as);
 }

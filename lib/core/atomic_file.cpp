@@ -77,6 +77,23 @@ void requireRegularFile(const std::string& path, const std::string& what) {
   throw InputError(path, "not a regular file (a device or a pipe), expected a " + what);
 }
 
+std::string readRegularFile(const std::string& path, const std::string& what,
+                            std::uint64_t max_bytes) {
+  requireRegularFile(path, what);
+  std::ifstream in(path, std::ios::binary | std::ios::ate);
+  if (!in) throw InputError(path, "cannot open " + what);
+  const std::uint64_t size = static_cast<std::uint64_t>(in.tellg());
+  if (size > max_bytes)
+    throw InputError(path, what + " of " + std::to_string(size) + " bytes is too large (at most " +
+                               std::to_string(max_bytes) + ")");
+  in.seekg(0);
+  std::string bytes(static_cast<std::size_t>(size), '\0');
+  in.read(bytes.data(), static_cast<std::streamsize>(size));
+  if (in.gcount() != static_cast<std::streamsize>(size))
+    throw InputError(path, "cannot read " + what);
+  return bytes;
+}
+
 bool isDirectory(const std::string& path) {
   std::error_code ec;
   return fs::is_directory(path, ec);

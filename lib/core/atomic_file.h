@@ -2,7 +2,9 @@
 // Output files are written under a temporary name in the same folder and
 // renamed into place only when complete, so an interrupted or failed run never
 // leaves a half-written trajectory, report or map that looks valid.
+#include <cstdint>
 #include <functional>
+#include <limits>
 #include <ostream>
 #include <string>
 
@@ -45,6 +47,12 @@ bool isDirectory(const std::string& path);
 /// pipe), expected a WHAT" (/dev/null was "not found"; /dev/zero was read
 /// until memory ran out).
 void requireRegularFile(const std::string& path, const std::string& what = "file");
+/// The whole of a regular file (requireRegularFile, naming it `what`), read
+/// in one call. Throws InputError(path) if it cannot be opened or read, or
+/// holds more than max_bytes ("WHAT of N bytes is too large"; checked from
+/// its size, before anything is read).
+std::string readRegularFile(const std::string& path, const std::string& what,
+                            std::uint64_t max_bytes = std::numeric_limits<std::uint64_t>::max());
 /// Creates the directory and its parents; throws naming the path on failure.
 void makeDirectories(const std::string& path);
 

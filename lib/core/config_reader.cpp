@@ -4,7 +4,6 @@
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
-#include <iterator>
 #include <sstream>
 #include <vector>
 
@@ -65,8 +64,7 @@ ConfigSection ConfigSection::sub(const std::string& key) {
   return ConfigSection(node_[key], file_, section_.empty() ? key : section_ + "." + key);
 }
 
-void failAtKey(const std::string& file, const std::string& dotted_key,
-               const std::string& message) {
+void failAtKey(const std::string& file, const std::string& dotted_key, const std::string& message) {
   std::ifstream text(file);
   if (const std::size_t line = findKeyLine(text, dotted_key)) throw InputError(file, line, message);
   throw InputError(file, message);
@@ -208,12 +206,8 @@ std::string prepareYamlText(const std::string& path, const std::string& text) {
 }  // namespace
 
 mrpt::containers::yaml loadYamlFile(const std::string& path) {
-  requireRegularFile(path, "config file");
-  std::string text;
+  std::string text = readRegularFile(path, "config file");
   {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw InputError(path, "cannot read config file");
-    text.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
     std::istringstream lines(text);
     const DuplicateKey d = findDuplicateKey(lines);
     if (d.line)

@@ -3,8 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
-#include <fstream>
-#include <iterator>
 #include <map>
 #include <sstream>
 #include <stdexcept>
@@ -279,16 +277,6 @@ void saveMap(const std::string& path, const Map& map, const FrameContext& ctx,
 
 namespace {
 
-std::string readWholeFile(const std::string& path) {
-  // A device or a pipe (/dev/zero: read until memory ran out; a FIFO: blocked).
-  requireRegularFile(path, "map file");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path, "cannot open the map file");
-  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (in.bad()) throw InputError(path, "cannot read the map file");
-  return bytes;
-}
-
 void checkHeader(const std::string& path, const std::string& bytes) {
   if (bytes.size() < sizeof kMapMagic ||
       std::memcmp(bytes.data(), kMapMagic, sizeof kMapMagic) != 0)
@@ -405,7 +393,8 @@ LoadedMap loadMap(const std::string& path, Map& map, std::shared_ptr<const Frame
                   uint64_t vocabulary_checksum) {
   if (map.keyFrameCount() != 0 || map.mapPointCount() != 0)
     throw std::logic_error("loadMap: the map must be empty");
-  const std::string bytes = readWholeFile(path);
+  // A device or a pipe is refused (/dev/zero: read until memory ran out; a FIFO: blocked).
+  const std::string bytes = readRegularFile(path, "map file");
   checkHeader(path, bytes);
   ByteReader r(std::string_view(bytes).substr(kMapHeaderBytes));
   try {

@@ -103,6 +103,32 @@ TEST(AtomicFile, RequireRegularFileSaysWhatThePathIs) {
             "/dev/null: not a regular file (a device or a pipe), expected a config file");
 }
 
+// Known bytes (a NUL, bytes over 0x7F, no final newline) come back exactly;
+// a file over the limit is refused from its size, naming it; a folder is
+// refused as requireRegularFile says.
+TEST(AtomicFile, ReadRegularFileReadsTheWholeFileOrRefusesIt) {
+  TempDir d;
+  const std::string bytes = std::string("a\0b\xFF\x89PNG\r\n", 9) + std::string(70000, 'z');
+  writeText(d / "f.bin", bytes);
+  EXPECT_EQ(readRegularFile(d / "f.bin", "map file"), bytes);
+  EXPECT_EQ(readRegularFile(d / "f.bin", "map file", bytes.size()), bytes);
+  try {
+    readRegularFile(d / "f.bin", "map file", bytes.size() - 1);
+    ADD_FAILURE() << "accepted a file over the limit";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              d / "f.bin" + ": map file of 70009 bytes is too large (at most 70008)");
+  }
+  writeText(d / "empty.bin", "");
+  EXPECT_EQ(readRegularFile(d / "empty.bin", "map file"), "");
+  try {
+    readRegularFile(d.path(), "map file");
+    ADD_FAILURE() << "accepted a folder";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), d.path() + ": is a folder, expected a map file");
+  }
+}
+
 TEST(AtomicFile, FailingWriterLeavesNothing) {
   TempDir d;
   EXPECT_THROW(writeFileAtomically(d / "x.txt",
@@ -326,5 +352,6 @@ TEST(Messages, PrintableLineEscapesControlBytesAndCapsTheLength) {
   EXPECT_EQ(printableLine("class '\xdc' x"), "class '\\xdc' x");
   EXPECT_EQ(printableLine("a\xc3(b"), "a\\xc3(b");
   EXPECT_EQ(printableLine("\xff\xfe"), "\\xff\\xfe");
-  EXPECT_EQ(printableLine("\xe2\x82\xac and \xf0\x9f\x99\x82"), "\xe2\x82\xac and \xf0\x9f\x99\x82");
+  EXPECT_EQ(printableLine("\xe2\x82\xac and \xf0\x9f\x99\x82"),
+            "\xe2\x82\xac and \xf0\x9f\x99\x82");
 }
