@@ -8,11 +8,12 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <numeric>
 #include <set>
+#include <sstream>
 #include <stdexcept>
 
+#include "core/atomic_file.h"
 #include "core/data_paths.h"
 #include "core/errors.h"
 #include "core/timing.h"
@@ -116,10 +117,12 @@ uint64_t readVarintField(const unsigned char* start, const unsigned char* end) {
 }  // namespace
 
 std::vector<long long> readOnnxInputShape(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path, "cannot open model file");
-  std::vector<unsigned char> data((std::istreambuf_iterator<char>(in)), {});
-  PbReader model{data.data(), data.data() + data.size()};
+  return onnxInputShape(readRegularFile(path, kOnnxModelWhat), path);
+}
+
+std::vector<long long> onnxInputShape(const std::string& model_bytes, const std::string& path) {
+  const auto* data = reinterpret_cast<const unsigned char*>(model_bytes.data());
+  PbReader model{data, data + model_bytes.size()};
   PbReader graph{nullptr, nullptr};
   bool have_graph = false;
   int field, wire;
@@ -189,8 +192,7 @@ std::vector<long long> readOnnxInputShape(const std::string& path) {
 namespace {
 
 std::vector<std::string> readClassNames(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError(path, "cannot read class names");
+  std::istringstream in(readRegularFile(path, "class-name list"));
   std::vector<std::string> names;
   std::string line;
   while (std::getline(in, line)) {
@@ -213,15 +215,18 @@ int gridCells(cv::Size in) {
 YoloDetector::YoloDetector(const YoloDetectorParams& params) : params_(params) {
   if (params_.model_path.empty()) params_.model_path = findModelFile(kDefaultDetectorModel);
   const std::string& model = params_.model_path;
-  if (!fs::is_regular_file(model)) throw InputError(model, "detector model not found");
 
-  const auto dims = readOnnxInputShape(model);  // throws InputError on non-protobuf
+  // Read once: the shape is parsed from the same bytes that OpenCV loads, so
+  // a folder or a pipe named as the model is refused before anything waits
+  // on it.
+  const std::string model_bytes = readRegularFile(model, kOnnxModelWhat);
+  const auto dims = onnxInputShape(model_bytes, model);  // throws InputError on non-protobuf
   if (dims.size() != 4 || dims[1] != 3 || dims[2] <= 0 || dims[3] <= 0)
     throw InputError(model, "expected a fixed 1x3xHxW model input");
   input_size_ = cv::Size(int(dims[3]), int(dims[2]));
 
   try {
-    net_ = cv::dnn::readNetFromONNX(model);
+    net_ = cv::dnn::readNetFromONNX(model_bytes.data(), model_bytes.size());
   } catch (const cv::Exception& e) {
     throw InputError(model, std::string("cannot load ONNX model: ") + e.what());
   }

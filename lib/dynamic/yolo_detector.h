@@ -107,9 +107,15 @@ class YoloDetector {
   double last_forward_ms_ = 0;
 };
 
-/// Reads the (N, C, H, W) input shape stored in an ONNX file (first graph
-/// input that is not an initializer). Returns an empty vector when the file
-/// has none with fixed dims. Throws InputError when it is not a protobuf.
+/// What an ONNX model file is called in errors ("is a folder, expected a ...").
+inline const std::string kOnnxModelWhat = "YOLO model (ONNX)";
+
+/// The (N, C, H, W) input shape stored in an ONNX model's bytes (first graph
+/// input that is not an initializer). Returns an empty vector when the model
+/// has none with fixed dims. Throws InputError naming path when the bytes are
+/// not a protobuf.
+std::vector<long long> onnxInputShape(const std::string& model_bytes, const std::string& path);
+/// The same, read from the file (refused unless it is a regular file).
 std::vector<long long> readOnnxInputShape(const std::string& path);
 
 }  // namespace dynslam

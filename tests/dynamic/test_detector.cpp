@@ -14,6 +14,8 @@
 #include <memory>
 #include <thread>
 
+#include <sys/stat.h>
+
 #include "core/errors.h"
 #include "dynamic/detector_thread.h"
 #include "dynamic/yolo_detector.h"
@@ -22,6 +24,7 @@
 using namespace dynslam;
 using dynslam::test::sharedDir;
 using dynslam::test::TempDir;
+namespace fs = std::filesystem;
 
 namespace {
 
@@ -206,6 +209,41 @@ TEST(Detector, NonOnnxFileIsInputErrorNamingTheFile) {
       EXPECT_NE(std::string(e.what()).find(path), std::string::npos);
     }
   }
+}
+
+// A folder or a pipe named as the model (or as its class-name list) is
+// refused before it is opened: opening a pipe for reading waits for a writer,
+// so without the check this test hangs until the CTest timeout.
+TEST(Detector, FoldersAndPipesAreRefusedAsModelOrClassNames) {
+  TempDir tmp;
+  const std::string folder = tmp / "folder.onnx";
+  fs::create_directories(folder);
+  const std::string pipe = tmp / "pipe.onnx";
+  ASSERT_EQ(mkfifo(pipe.c_str(), 0600), 0);
+  const std::string pipe_names = tmp / "coco.names";
+  ASSERT_EQ(mkfifo(pipe_names.c_str(), 0600), 0);
+  struct Case {
+    std::string model, names, file, message;
+  };
+  const std::vector<Case> cases = {
+      {folder, "", folder, "is a folder, expected a YOLO model (ONNX)"},
+      {pipe, "", pipe, "not a regular file (a device or a pipe), expected a YOLO model (ONNX)"},
+      {model("yolov5n_320x320"), pipe_names, pipe_names,
+       "not a regular file (a device or a pipe), expected a class-name list"},
+  };
+  for (const Case& c : cases) {
+    YoloDetectorParams p;
+    p.model_path = c.model;
+    p.class_names_path = c.names;
+    try {
+      YoloDetector det(p);
+      ADD_FAILURE() << "expected InputError for " << c.file;
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.file(), c.file);
+      EXPECT_NE(std::string(e.what()).find(c.message), std::string::npos) << e.what();
+    }
+  }
+  EXPECT_THROW(readOnnxInputShape(pipe), InputError);
 }
 
 TEST(Detector, UnknownDynamicClassIsInputError) {
