@@ -1,10 +1,33 @@
 #include "rawlog/tum_folder_source.h"
 
+#include <cstdio>
+
+#include "core/association.h"
 #include "core/atomic_file.h"
 #include "core/errors.h"
 #include "rawlog/image_checks.h"
 
 namespace dynslam {
+namespace {
+
+/// Why a folder has no RGB-D pair, with the nearest gap found (a single
+/// frame cut out of a sequence may hold a pair farther apart than the
+/// benchmark's 0.02 s).
+std::string noPairsMessage(const std::vector<TumListEntry>& rgb,
+                           const std::vector<TumListEntry>& depth) {
+  std::vector<double> trgb, tdepth;
+  for (const auto& e : rgb) trgb.push_back(e.timestamp);
+  for (const auto& e : depth) tdepth.push_back(e.timestamp);
+  // (Both lists hold an entry: readTumList refuses an empty one.)
+  char msg[128];
+  std::snprintf(msg, sizeof msg,
+                "no RGB-D pairs: no rgb.txt and depth.txt time stamps within 0.02 s (the nearest "
+                "are %.3f s apart)",
+                nearestTimestampGap(trgb, tdepth));
+  return msg;
+}
+
+}  // namespace
 
 TumFolderSource::TumFolderSource(const std::string& folder, const std::string& camera_config)
     : folder_(folder) {
@@ -26,9 +49,7 @@ TumFolderSource::TumFolderSource(const std::string& folder, const std::string& c
   }
 
   pairs_ = associateTumLists(rgb, depth);
-  if (pairs_.empty()) {
-    throw InputError(folder, "no RGB-D pairs: no rgb.txt and depth.txt timestamps within 0.02 s");
-  }
+  if (pairs_.empty()) throw InputError(folder, noPairsMessage(rgb, depth));
   // Missing files are found now rather than hundreds of frames into a run.
   for (const auto& p : pairs_) {
     if (!fileExists(folder + "/" + p.rgb.file))

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <numeric>
 #include <tuple>
 
@@ -43,6 +44,18 @@ std::vector<std::pair<std::size_t, std::size_t>> associateTimestamps(
   std::sort(matches.begin(), matches.end(),
             [&](const auto& x, const auto& y) { return first[x.first] < first[y.first]; });
   return matches;
+}
+
+double nearestTimestampGap(const std::vector<double>& first, const std::vector<double>& second) {
+  std::vector<double> sorted(second);
+  std::sort(sorted.begin(), sorted.end());
+  double best = INFINITY;
+  for (const double a : first) {
+    const auto it = std::lower_bound(sorted.begin(), sorted.end(), a);
+    if (it != sorted.end()) best = std::min(best, *it - a);
+    if (it != sorted.begin()) best = std::min(best, a - *std::prev(it));
+  }
+  return best;
 }
 
 }  // namespace dynslam

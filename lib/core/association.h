@@ -14,4 +14,8 @@ std::vector<std::pair<std::size_t, std::size_t>> associateTimestamps(
     const std::vector<double>& first, const std::vector<double>& second,
     double max_difference = 0.02, double offset = 0.0);
 
+/// The smallest |a - b| over a in first and b in second (infinity when
+/// either is empty): what a user needs to hear when nothing associates.
+double nearestTimestampGap(const std::vector<double>& first, const std::vector<double>& second);
+
 }  // namespace dynslam

@@ -44,6 +44,15 @@ TEST(Association, StrictThreshold) {
   EXPECT_EQ(associateTimestamps({1.0}, {1.019}, 0.02).size(), 1u);
 }
 
+// Unsorted lists (nearest: 7.5 - 7.47 = 0.03, not 5.0 - 4.96 = 0.04 nor a
+// pair within one list); the nearest below a timestamp, and above it.
+TEST(Association, NearestGapOverBothSidesOfEachTimestamp) {
+  EXPECT_NEAR(nearestTimestampGap({7.5, 1.0, 5.0}, {4.96, 7.47, 0.8, 2.0}), 0.03, 1e-9);
+  EXPECT_NEAR(nearestTimestampGap({3.0}, {1.0, 2.9, 9.0}), 0.1, 1e-9);
+  EXPECT_NEAR(nearestTimestampGap({3.0}, {3.05}), 0.05, 1e-9);
+  EXPECT_TRUE(std::isinf(nearestTimestampGap({1.0}, {})));
+}
+
 TEST(Stats, KnownValues) {
   const auto s = summarize({3, 1, 2, 4});
   EXPECT_DOUBLE_EQ(s.mean, 2.5);

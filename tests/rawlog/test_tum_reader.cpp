@@ -169,8 +169,11 @@ TEST(TumFolder, ImageSizeMustMatchCamera) {
 TEST(TumFolder, NoAssociatedPairs) {
   TempDir d;
   const FakeSequence s = makeFakeSequence(d.path(), 2);
-  writeList(s.dir + "/depth.txt", {"1305031300.0 " + s.depth_files[0]});
-  expectInputError([&] { TumFolderSource(s.dir, s.config); }, {s.dir, "no RGB-D pairs"});
+  // The RGB images are at 1305031229.5 and 1305031229.533: the nearest is
+  // 0.038 s from the one depth image (a pair cut out of fr3/walking_xyz).
+  writeList(s.dir + "/depth.txt", {"1305031229.571 " + s.depth_files[0]});
+  expectInputError([&] { TumFolderSource(s.dir, s.config); },
+                   {s.dir, "no RGB-D pairs", "the nearest are 0.038 s apart"});
 }
 
 TEST(TumFolder, GroundtruthWithBadQuaternion) {
