@@ -12,18 +12,15 @@ namespace {
 
 /// Why a folder has no RGB-D pair, with the nearest gap found (a single
 /// frame cut out of a sequence may hold a pair farther apart than the
-/// benchmark's 0.02 s).
+/// benchmark's kTumPairMaxGap).
 std::string noPairsMessage(const std::vector<TumListEntry>& rgb,
                            const std::vector<TumListEntry>& depth) {
-  std::vector<double> trgb, tdepth;
-  for (const auto& e : rgb) trgb.push_back(e.timestamp);
-  for (const auto& e : depth) tdepth.push_back(e.timestamp);
   // (Both lists hold an entry: readTumList refuses an empty one.)
   char msg[128];
   std::snprintf(msg, sizeof msg,
-                "no RGB-D pairs: no rgb.txt and depth.txt time stamps within 0.02 s (the nearest "
+                "no RGB-D pairs: no rgb.txt and depth.txt time stamps within %.2f s (the nearest "
                 "are %.3f s apart)",
-                nearestTimestampGap(trgb, tdepth));
+                kTumPairMaxGap, nearestTimestampGap(tumTimestamps(rgb), tumTimestamps(depth)));
   return msg;
 }
 

@@ -20,7 +20,13 @@ struct TumPair {
   TumListEntry depth;  ///< file relative to the folder, line in depth.txt
 };
 
-/// Associates the two lists (associate.py, 0.02 s); sorted by RGB time.
+/// associate.py's default: an RGB and a depth image further apart (s) are no pair.
+constexpr double kTumPairMaxGap = 0.02;
+
+/// The time stamps of a list's entries, in order.
+std::vector<double> tumTimestamps(const std::vector<TumListEntry>& entries);
+
+/// Associates the two lists (associate.py, kTumPairMaxGap); sorted by RGB time.
 std::vector<TumPair> associateTumLists(const std::vector<TumListEntry>& rgb,
                                        const std::vector<TumListEntry>& depth);
 

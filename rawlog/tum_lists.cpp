@@ -27,15 +27,18 @@ std::vector<TumListEntry> readTumList(const std::string& path) {
   return entries;
 }
 
+std::vector<double> tumTimestamps(const std::vector<TumListEntry>& entries) {
+  std::vector<double> t;
+  t.reserve(entries.size());
+  for (const auto& e : entries) t.push_back(e.timestamp);
+  return t;
+}
+
 std::vector<TumPair> associateTumLists(const std::vector<TumListEntry>& rgb,
                                        const std::vector<TumListEntry>& depth) {
-  std::vector<double> trgb, tdepth;
-  trgb.reserve(rgb.size());
-  tdepth.reserve(depth.size());
-  for (const auto& e : rgb) trgb.push_back(e.timestamp);
-  for (const auto& e : depth) tdepth.push_back(e.timestamp);
   std::vector<TumPair> pairs;
-  for (const auto& [i, j] : associateTimestamps(trgb, tdepth, 0.02))
+  for (const auto& [i, j] :
+       associateTimestamps(tumTimestamps(rgb), tumTimestamps(depth), kTumPairMaxGap))
     pairs.push_back({rgb[i], depth[j]});
   return pairs;
 }
