@@ -33,11 +33,10 @@
 // and the LK windows cost about a quarter, and the 0.1-0.2 px precision lost
 // is far below the thresholds.
 //
-// Why the F-matrix RANSAC can be skipped when the PnP pose exists
-// (fundamental_with_pose = false): with a pose, the reprojection test judges
-// every depth-backed point and F only serves the points without depth. It is
-// kept on by default: those are the points on depth edges, i.e. object
-// outlines (the synthetic box test loses 5 % of its mask without them).
+// Why the F-matrix RANSAC runs even when the PnP pose exists: with a pose,
+// the reprojection test judges every depth-backed point and F only serves
+// the points without depth, but those are the points on depth edges, i.e.
+// object outlines (the synthetic box test lost 5 % of its mask without them).
 //
 // Why carried seeds (classify(..., carried)): a walker found moving in frame
 // t is still there in t+1 even if its residuals there stay under the

@@ -18,11 +18,9 @@ struct MotionCheckParams {
   /// pixels of that image.
   int lk_downsample = 2;
   // --- geometry
-  float epipolar_threshold_px = 1.0f;  ///< sigma of the epipolar test
-  /// (The epipolar test judges only the points the reprojection test cannot:
-  /// no depth or no pose.) Fit F also when the PnP pose succeeded (only
-  /// needed for points without depth); false saves the F RANSAC.
-  bool fundamental_with_pose = true;
+  /// Sigma of the epipolar test, which judges only the points the
+  /// reprojection test cannot: no depth or no pose.
+  float epipolar_threshold_px = 1.0f;
   /// Depth-backed reprojection test (px). With a known camera motion
   /// (classifyMotion's `known`) the points that pass it (points without
   /// depth: epipolar_threshold_px) also refine that motion and give the

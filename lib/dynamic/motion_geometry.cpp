@@ -134,18 +134,18 @@ GeometryResult classifyMotion(const Correspondences& c, const cv::Matx33d& K,
   }
 
   // --- Epipolar test.
-  // Only needed for points without depth or pose (see fundamental_with_pose).
-  // Without F, points lacking depth are judged by the region mask alone.
-  // A known motion gives F directly (none when it is a pure rotation).
-  const bool need_f = params.fundamental_with_pose || !r.has_pose;
-  if (known && need_f) {
+  // For the points without depth or pose (motion_check.h says why it is fit
+  // even with a pose). Without F, points lacking depth are judged by the
+  // region mask alone. A known motion gives F directly (none when it is a
+  // pure rotation).
+  if (known) {
     if (cv::norm(r.t) > 1e-3) {
       const cv::Matx33d tx(0, -r.t[2], r.t[1], r.t[2], 0, -r.t[0], -r.t[1], r.t[0], 0);
       const cv::Matx33d Ki = K.inv();
       r.F = Ki.t() * tx * r.R * Ki;
       r.has_fundamental = true;
     }
-  } else if (need_f && fit.size() >= 8) {
+  } else if (fit.size() >= 8) {
     std::vector<cv::Point2f> a, b;
     a.reserve(fit.size());
     b.reserve(fit.size());

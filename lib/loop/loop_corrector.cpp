@@ -127,7 +127,7 @@ LoopCorrectionStats LoopCorrector::correct(const LoopClosure& lc) {
   }
 
   graph.fix(static_cast<PoseGraph::Id>(loop_kf->id));
-  if (p_.fix_first_keyframe && first) graph.fix(static_cast<PoseGraph::Id>(first->id));
+  if (first) graph.fix(static_cast<PoseGraph::Id>(first->id));
   const PoseGraphResult r = graph.optimize(p_.max_iterations);
   st.iterations = r.iterations;
   st.initial_sq_error = r.initial_sq_error;

@@ -29,7 +29,6 @@ struct LoopCorrectorParams {
   int max_iterations = 20;            ///< Levenberg-Marquardt iterations
   float fuse_radius = 4.0f;           ///< projection window (px, x level scale)
   MatcherParams matcher;
-  bool fix_first_keyframe = true;  ///< besides the loop keyframe
 };
 
 /// A verified loop.

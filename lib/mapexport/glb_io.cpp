@@ -139,7 +139,7 @@ void writeGlb(const std::string& path, const MapData& map, const MapWriteOptions
     meshes.push_back(
         makeMesh(kTrajectoryName, v, std::vector<aiColor4D>(v.size(), {1, 0, 0, 1}), 2));
   }
-  if (options.frustums && !map.keyframes.empty()) {
+  if (!map.keyframes.empty()) {
     const auto v = frustumSegments(map.keyframes, options);
     meshes.push_back(makeMesh(kFrustumsName, v, std::vector<aiColor4D>(v.size(), {0, 0, 1, 1}), 2));
   }

@@ -25,8 +25,7 @@ enum class MapFormat { kPly, kGlb };
 MapFormat mapFormatFromPath(const std::string& path);
 
 struct MapWriteOptions {
-  bool frustums = true;         ///< GLB: keyframe frustums as line segments
-  double frustum_depth = 0.08;  ///< metres from apex to far rectangle
+  double frustum_depth = 0.08;  ///< GLB's keyframe frustums: metres from apex to far rectangle
   PinholeCamera camera;         ///< frustum aspect; fx = 0 uses a 4:3, 60 deg FOV
 };
 

@@ -206,12 +206,10 @@ ExportResult exportRun(const RunDirectory& run, const FrameSource& source,
   }
   result.seconds = secondsSince(t_start);
   result.peak_rss_mb = peakRssMb();
-  if (export_options.write_report) {
-    result.report_path = export_options.report_path.empty() ? exportReportPath(out_path)
-                                                            : export_options.report_path;
-    writeReport(result.report_path, run, source, out_path, options, result, phases,
-                builder.provenance());
-  }
+  result.report_path =
+      export_options.report_path.empty() ? exportReportPath(out_path) : export_options.report_path;
+  writeReport(result.report_path, run, source, out_path, options, result, phases,
+              builder.provenance());
   return result;
 }
 

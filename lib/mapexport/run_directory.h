@@ -68,7 +68,6 @@ struct ExportOptions {
   DynamicMaskSource masks = DynamicMaskSource::kRun;
   /// Export report (JSON); empty: exportReportPath(out_path).
   std::string report_path;
-  bool write_report = true;
 };
 
 struct ExportResult {
@@ -77,7 +76,7 @@ struct ExportResult {
   std::string sparse_path;               ///< written sparse PLY, empty if none
   std::size_t sparse_points = 0;         ///< written (after carving)
   std::size_t sparse_carved_points = 0;  ///< removed by carving
-  std::string report_path;               ///< written report, empty if none
+  std::string report_path;               ///< the report written
   double seconds = 0;                    ///< wall time of exportRun up to the report
   double peak_rss_mb = 0;                ///< process peak resident memory at the end
   UpEstimate up;                         ///< as used for the GLB root and the render views

@@ -83,15 +83,12 @@ int FeatureMatcher::searchByProjection(Frame& cur, const Frame& last, float th) 
     if (best <= p_.th_high) {
       cur.points[best_idx] = mp;
       ++n;
-      if (p_.check_orientation)
-        hist.add(last.f().keys_un[i].angle, cf.keys_un[best_idx].angle, best_idx);
+      hist.add(last.f().keys_un[i].angle, cf.keys_un[best_idx].angle, best_idx);
     }
   }
-  if (p_.check_orientation) {
-    for (int j : hist.outliers()) {
-      cur.points[j] = nullptr;
-      --n;
-    }
+  for (int j : hist.outliers()) {
+    cur.points[j] = nullptr;
+    --n;
   }
   return n;
 }
@@ -184,14 +181,12 @@ int FeatureMatcher::searchByDescriptor(const KeyFrame& kf, Frame& cur) const {
     best_for_frame[best_j] = best;
     cur.points[best_j] = kf.points[i];
     ++n;
-    if (p_.check_orientation) hist.add(kff.keys_un[i].angle, cf.keys_un[best_j].angle, best_j);
+    hist.add(kff.keys_un[i].angle, cf.keys_un[best_j].angle, best_j);
   }
-  if (p_.check_orientation) {
-    for (int j : hist.outliers()) {
-      if (cur.points[j]) {
-        cur.points[j] = nullptr;
-        --n;
-      }
+  for (int j : hist.outliers()) {
+    if (cur.points[j]) {
+      cur.points[j] = nullptr;
+      --n;
     }
   }
   return n;
@@ -252,10 +247,9 @@ std::vector<std::pair<int, int>> FeatureMatcher::searchForTriangulation(const Ke
     taken2[best_j] = static_cast<int>(i);
     dist2[best_j] = best;
     match1[i] = best_j;
-    if (p_.check_orientation) hist.add(kp1.angle, f2.keys_un[best_j].angle, static_cast<int>(i));
+    hist.add(kp1.angle, f2.keys_un[best_j].angle, static_cast<int>(i));
   }
-  if (p_.check_orientation)
-    for (int i : hist.outliers()) match1[i] = -1;
+  for (int i : hist.outliers()) match1[i] = -1;
   std::vector<std::pair<int, int>> pairs;
   for (std::size_t i = 0; i < match1.size(); ++i)
     if (match1[i] >= 0) pairs.emplace_back(static_cast<int>(i), match1[i]);

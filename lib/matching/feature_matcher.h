@@ -17,7 +17,6 @@ struct MatcherParams {
                       ///< fewer points and gave a worse ATE on fr1_rpy)
   int th_low = 50;    ///< max Hamming distance for strict matches
   float nn_ratio = 0.8f;  ///< best / second-best ratio test
-  bool check_orientation = true;
 };
 
 class FeatureMatcher {

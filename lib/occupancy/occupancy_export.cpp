@@ -195,10 +195,8 @@ OccupancyExportResult exportOccupancyRun(const RunDirectory& run, const FrameSou
   r.seconds = secondsSince(t_start);
   r.cpu_seconds = processCpuSeconds();
   r.peak_rss_mb = peakRssMb();
-  if (eo.run.write_report) {
-    r.report_path = eo.run.report_path.empty() ? exportReportPath(out_path) : eo.run.report_path;
-    writeReport(r.report_path, run, source, dense, options, r);
-  }
+  r.report_path = eo.run.report_path.empty() ? exportReportPath(out_path) : eo.run.report_path;
+  writeReport(r.report_path, run, source, dense, options, r);
   return r;
 }
 

@@ -156,7 +156,7 @@ PoseOptimizerResult optimizePose(const ProjectionModel& cam, const mrpt::poses::
   const bool enough = static_cast<int>(obs.size()) >= params.min_observations;
   for (int round = 0; enough && round < params.rounds; ++round) {
     const bool last = round + 1 == params.rounds;
-    k.robust = !last || params.robust_last_round;
+    k.robust = !last;  // the last round is plain least squares on the inliers
     result.iterations += optimizeRound(cam, obs, active, k, params, T_cw);
     const int n = classify(cam, optim::toRigid(T_cw), obs, params, result.inlier);
     active = result.inlier;

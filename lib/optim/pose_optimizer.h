@@ -4,7 +4,8 @@
 // Gauss-Newton on SE(3) (increments through mrpt::poses::Lie::SE<3>::exp) with
 // a Huber kernel, in rounds: after each round, observations whose chi-square
 // exceeds the 95 % threshold (5.991 for 2 dof, 7.815 for 3 dof) are set aside
-// as outliers and may come back in the next round if they fit again.
+// as outliers and may come back in the next round if they fit again. The
+// last round drops the kernel (as ORB-SLAM does): its outliers are set aside.
 #include <mrpt/poses/CPose3D.h>
 
 #include <Eigen/Core>
@@ -26,8 +27,6 @@ struct PoseOptimizerParams {
   int iterations_per_round = 10;
   double chi2_mono = 5.991;    ///< 95 % of chi-square with 2 dof
   double chi2_stereo = 7.815;  ///< 95 % of chi-square with 3 dof
-  /// The Huber kernel is dropped in the last round (as in ORB-SLAM) when false.
-  bool robust_last_round = false;
   /// Below this many usable observations the pose is under-constrained (a
   /// mono point gives 2 equations for 6 unknowns), so optimisation stops: a
   /// smaller input returns the initial pose (inliers classified at it), and a

@@ -95,8 +95,7 @@ Rates rates(const Scene& s, const std::vector<uint8_t>& dyn) {
 
 TEST(ClassifyMotion, FlagsMovingClustersIncludingAlongTheEpipolarLine) {
   const Scene s = makeScene(400, 40, 40, 0.3, 1);
-  MotionCheckParams p;
-  p.fundamental_with_pose = true;  // this test also inspects the epipolar errors
+  const MotionCheckParams p;
   const GeometryResult g = classifyMotion(s.c, kK, p);
   ASSERT_TRUE(g.has_fundamental);
   ASSERT_TRUE(g.has_pose);
@@ -224,7 +223,6 @@ TEST(MotionConsistencyCheck, RenderedMovingBoxIsFlaggedAndMasked) {
   MotionCheckParams p;
   p.lk_downsample = 1;
   p.lk_window = 21;
-  p.fundamental_with_pose = true;
   MotionConsistencyCheck check(p);
   const MotionFrame f1 = check.makeFrame(g1, d1), f2 = check.makeFrame(g2, d2);
   const MotionResult r = check.check(f1, f2, pts, cam, {});

@@ -82,8 +82,7 @@ TEST(PoseOptimizer, OutliersMatterWithoutRejection) {
   const auto scene = optim::makePoseScene(cam, sp);
   const auto initial = optim::perturbPose(scene.true_wc, 0.05, 3.0 * kDeg, 11);
   PoseOptimizerParams p;
-  p.rounds = 1;
-  p.robust_last_round = false;
+  p.rounds = 1;  // the only round is the last: plain least squares
   p.iterations_per_round = 20;
   const auto r = optimizePose(cam, initial, scene.obs, p);
   EXPECT_GT(optim::translationError(r.pose_wc, scene.true_wc), 0.01);
