@@ -45,9 +45,10 @@ class ObservationPreprocessor {
                             std::vector<uint8_t>& /*dynamic*/) {
     return false;
   }
-  /// After frameTracked() changed the flags: 1 per keypoint that its
-  /// evidence could not judge (nothing was tracked near it from the previous
-  /// frame), empty when every keypoint was judged. New map points are made
+  /// After every frameTracked(), whether it changed the flags or not: 1 per
+  /// keypoint that its evidence could not judge (nothing was tracked near it
+  /// from the previous frame, or it lies where something was seen moving
+  /// lately), empty when every keypoint was judged. New map points are made
   /// only from judged keypoints (FeatureSet::unjudged).
   virtual std::vector<uint8_t> unjudgedKeypoints() const { return {}; }
 };

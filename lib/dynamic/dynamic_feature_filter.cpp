@@ -345,8 +345,12 @@ bool DynamicFeatureFilter::judge(const cv::Matx44d& prev_pose_wc, const TrackedP
   if (inliers_flagged > p_.max_map_inliers_flagged) {
     ++rejected_judgements_;
     mask_ = before;
+    unjudged_.assign(j.keypoints.size(), 0);
+    const std::size_t held_back = holdBackMovedSpace(pose.pose_wc, dynamic);
+    unjudged_count_ += held_back;
     logf(LogLevel::kTrace, "dynamic",
-         "frame %ld: judgement rejected: %.2f of the map inliers flagged", frame_, inliers_flagged);
+         "frame %ld: judgement rejected: %.2f of the map inliers flagged (%zu in moved space)",
+         frame_, inliers_flagged, held_back);
     return false;
   }
   dynamic = std::move(verdict);
@@ -359,7 +363,8 @@ bool DynamicFeatureFilter::judge(const cv::Matx44d& prev_pose_wc, const TrackedP
       coveredTracksNow(j.prev_points, ev.r.tracked, j.prev_depth, j.cur_depth, camera_, known,
                        p_.motion.depth_edge_ratio),
       size, spacing);
-  const std::size_t held_back = holdBackMovedSpace(pose.pose_wc, ev.r, dynamic);
+  voteMovedSpace(pose.pose_wc, ev.r);
+  const std::size_t held_back = holdBackMovedSpace(pose.pose_wc, dynamic);
   const std::size_t unjudged = std::size_t(std::count(unjudged_.begin(), unjudged_.end(), 1));
   unjudged_count_ += unjudged;
   // The flags are the judgement's; the pixel mask (lastMask(), what the
@@ -378,19 +383,22 @@ bool DynamicFeatureFilter::judge(const cv::Matx44d& prev_pose_wc, const TrackedP
   return true;
 }
 
-std::size_t DynamicFeatureFilter::holdBackMovedSpace(const cv::Matx44d& pose_wc,
-                                                     const MotionResult& judged,
-                                                     const std::vector<uint8_t>& dynamic) {
-  const Judgement& j = judge_;
-  if (!moved_space_.enabled() || j.cur_depth.empty()) return 0;
+namespace {
+
+/// A depth-backed camera point (z <= 0: none) in the world; non-finite
+/// (ignored by MovedSpaceMemory) without depth.
+cv::Vec3d worldPoint(const cv::Matx44d& pose_wc, const cv::Point3f& X) {
+  if (!(X.z > 0)) return cv::Vec3d(NAN, NAN, NAN);
   const cv::Matx33d R = pose_wc.get_minor<3, 3>(0, 0);
-  const cv::Vec3d t(pose_wc(0, 3), pose_wc(1, 3), pose_wc(2, 3));
+  return R * cv::Vec3d(X.x, X.y, X.z) + cv::Vec3d(pose_wc(0, 3), pose_wc(1, 3), pose_wc(2, 3));
+}
+
+}  // namespace
+
+void DynamicFeatureFilter::voteMovedSpace(const cv::Matx44d& pose_wc, const MotionResult& judged) {
+  const Judgement& j = judge_;
+  if (!moved_space_.enabled() || j.cur_depth.empty()) return;
   const float edge_ratio = p_.motion.depth_edge_ratio;
-  // A depth-backed camera point (z <= 0: none) in the world; non-finite
-  // (ignored by the memory) without depth.
-  auto world = [&](const cv::Point3f& X) {
-    return X.z > 0 ? cv::Vec3d(R * cv::Vec3d(X.x, X.y, X.z) + t) : cv::Vec3d(NAN, NAN, NAN);
-  };
   // The judged tracks vote: static, or moving inside a region that passed
   // the judgement's region vote. A moving track alone (LK slipping along a
   // keyboard's repeated keys, blur) does not vote. Their undistorted pixels
@@ -402,9 +410,17 @@ std::size_t DynamicFeatureFilter::holdBackMovedSpace(const cv::Matx44d& pose_wc,
     const bool moving = judged.geometry.dynamic[k];
     const cv::Point q(cvRound(raw.x), cvRound(raw.y));
     if (moving && !(image.contains(q) && judged.mask.at<uint8_t>(q))) continue;
-    moved_space_.addTrack(world(backProject(j.cur_depth, raw, c.cur[k], camera_, edge_ratio)),
-                          moving, frame_);
+    moved_space_.addTrack(
+        worldPoint(pose_wc, backProject(j.cur_depth, raw, c.cur[k], camera_, edge_ratio)), moving,
+        frame_);
   }
+}
+
+std::size_t DynamicFeatureFilter::holdBackMovedSpace(const cv::Matx44d& pose_wc,
+                                                     const std::vector<uint8_t>& dynamic) {
+  const Judgement& j = judge_;
+  if (!moved_space_.enabled() || j.cur_depth.empty()) return 0;
+  const float edge_ratio = p_.motion.depth_edge_ratio;
   // The keypoints in space that won the vote lately make no map point.
   std::vector<cv::Point2f> pts(j.keypoints.size());
   for (std::size_t k = 0; k < pts.size(); ++k) pts[k] = j.keypoints[k].pt;
@@ -414,7 +430,8 @@ std::size_t DynamicFeatureFilter::holdBackMovedSpace(const cv::Matx44d& pose_wc,
   for (std::size_t k = 0; k < pts.size(); ++k)
     if (!dynamic[k] && !unjudged_[k] &&
         moved_space_.movedRecently(
-            world(backProject(j.cur_depth, pts[k], undist[k], camera_, edge_ratio)), frame_)) {
+            worldPoint(pose_wc, backProject(j.cur_depth, pts[k], undist[k], camera_, edge_ratio)),
+            frame_)) {
       unjudged_[k] = 1;
       ++held;
     }

@@ -157,16 +157,19 @@ class DynamicFeatureFilter : public ObservationPreprocessor {
   void collectMoving(MotionEvidence& ev, const std::vector<cv::Point2f>& cur_points,
                      const std::vector<uint8_t>& tracked, const std::vector<uint8_t>& ages) const;
   /// frameTracked(): classify the last frame's tracks under the tracker's motion.
-  /// False (nothing changed) when the verdicts contradict the map: more
-  /// than max_map_inliers_flagged of the tracker's map inliers flagged.
+  /// False (flags unchanged) when the verdicts contradict the map: more
+  /// than max_map_inliers_flagged of the tracker's map inliers flagged; the
+  /// moved space is held back all the same.
   bool judge(const cv::Matx44d& prev_pose_wc, const TrackedPose& pose,
              std::vector<uint8_t>& dynamic);
-  /// Lets the judged tracks vote in moved_space_ (static, or moving inside a
-  /// region that passed the region vote), and marks the keypoints not
-  /// flagged `dynamic` that lie in space seen moving as unjudged (no map
-  /// point from them); returns how many it marked.
-  std::size_t holdBackMovedSpace(const cv::Matx44d& pose_wc, const MotionResult& judged,
-                                 const std::vector<uint8_t>& dynamic);
+  /// Lets the judged tracks vote in moved_space_: static, or moving inside a
+  /// region that passed the region vote.
+  void voteMovedSpace(const cv::Matx44d& pose_wc, const MotionResult& judged);
+  /// Marks the keypoints not flagged `dynamic` that lie in space seen moving
+  /// as unjudged (no map point from them); returns how many it marked. Also
+  /// after a rejected judgement: what earlier frames saw moving there does
+  /// not depend on this frame's verdicts.
+  std::size_t holdBackMovedSpace(const cv::Matx44d& pose_wc, const std::vector<uint8_t>& dynamic);
   /// $DYNSLAM_DEBUG_DYNAMIC_DIR/<frame>.png: the mask's parts.
   void writeDebugImage(const cv::Mat& box_mask, const cv::Mat& regions) const;
   /// prev_motion_mask_ moved by the median flow of the carried points.

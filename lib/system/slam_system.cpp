@@ -113,10 +113,12 @@ FrameOutcome SlamSystem::process(const RGBDFrame& frame) {
       }
       if (preprocessor_->frameTracked(frame.index, tracked, feats->dynamic)) {
         out.dynamic_before_tracking = std::move(before);
-        feats->unjudged = preprocessor_->unjudgedKeypoints();
         feats->buildGrids();
         changed = true;
       }
+      // Also when the flags stay: what the preprocessor cannot vouch for
+      // (space seen moving lately) makes no map point either way.
+      feats->unjudged = preprocessor_->unjudgedKeypoints();
     }
     out.track = tracker_->finishFrame(changed);
   }

@@ -403,7 +403,11 @@ TEST(DynamicFeatureFilterTwoPhases, KeypointsOfWhatEntersTheViewAreUnjudgedOnce)
 // its keypoints may become a map point, or the tracker would follow it when
 // it moves on. The wall's keypoints stay mappable. With the memory off
 // (moved_space.memory_frames 0) the standing object becomes mappable as
-// soon as its carried seeds run out.
+// soon as its carried seeds run out. A judgement the map vetoes (forced in the
+// last frame: max_map_inliers_flagged below 0, every keypoint a map inlier)
+// leaves the flags as they were, but holds the standing object back all the
+// same: what earlier frames saw moving there does not depend on this frame's
+// verdicts.
 TEST(DynamicFeatureFilterTwoPhases, WhatWasSeenMovingStaysOutOfTheMapWhileItStands) {
   cv::RNG rng(11);
   const cv::Mat wall = test::noiseTexture(rng, {W + 60, H + 60}),
@@ -430,17 +434,29 @@ TEST(DynamicFeatureFilterTwoPhases, WhatWasSeenMovingStaysOutOfTheMapWhileItStan
     }
     EXPECT_GT(in, 20);
     EXPECT_GT(out, 200);
-    return std::array<double, 2>{double(in_ok) / std::max(1, in), double(out_ok) / std::max(1, out)};
+    return std::array<double, 2>{double(in_ok) / std::max(1, in),
+                                 double(out_ok) / std::max(1, out)};
   };
   DynamicFilterParams off_params = flowOnly();
   off_params.moved_space.memory_frames = 0;
+  DynamicFilterParams veto_params = flowOnly();
+  veto_params.max_map_inliers_flagged = -1;
   DynamicFeatureFilter filter(flowOnly(), test::sceneCamera()),
-      forgetful(off_params, test::sceneCamera());
+      forgetful(off_params, test::sceneCamera()), vetoed(veto_params, test::sceneCamera());
   for (std::size_t k = 0; k < s.frames.size(); ++k) {
     const Phases p = step(filter, s, k, posed(k));
     const Phases q = step(forgetful, s, k, posed(k));
+    TrackedPose all_inliers = posed(k);
+    const bool veto = k + 1 == s.frames.size();  // the last frame only
+    if (veto) all_inliers.map_inliers.assign(s.keypoints[k].size(), 1);
+    const Phases v = step(vetoed, s, k, all_inliers);
     if (k < 6) continue;  // moving, then carried as moving for carry_frames
     ASSERT_TRUE(p.changed && q.changed) << k;
+    ASSERT_EQ(v.changed, !veto) << k;
+    if (veto) EXPECT_EQ(v.judged, v.pre);
+    const auto with_veto = mappable(vetoed, k, v.judged);
+    EXPECT_LT(with_veto[0], 0.1) << k;
+    EXPECT_GT(with_veto[1], 0.95) << k;
     const auto with = mappable(filter, k, p.judged), without = mappable(forgetful, k, q.judged);
     RecordProperty("standing_mappable_pct_frame" + std::to_string(k),
                    int(100 * with[0]));  // measured 0
