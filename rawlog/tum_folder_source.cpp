@@ -1,6 +1,7 @@
 #include "rawlog/tum_folder_source.h"
 
-#include <cstdio>
+#include <iomanip>
+#include <sstream>
 
 #include "core/association.h"
 #include "core/atomic_file.h"
@@ -16,12 +17,13 @@ namespace {
 std::string noPairsMessage(const std::vector<TumListEntry>& rgb,
                            const std::vector<TumListEntry>& depth) {
   // (Both lists hold an entry: readTumList refuses an empty one.)
-  char msg[128];
-  std::snprintf(msg, sizeof msg,
-                "no RGB-D pairs: no rgb.txt and depth.txt time stamps within %.2f s (the nearest "
-                "are %.3f s apart)",
-                kTumPairMaxGap, nearestTimestampGap(tumTimestamps(rgb), tumTimestamps(depth)));
-  return msg;
+  // (A stream, not a fixed buffer: any gap, however large, prints whole.)
+  std::ostringstream msg;
+  msg << std::fixed << std::setprecision(2)
+      << "no RGB-D pairs: no rgb.txt and depth.txt time stamps within " << kTumPairMaxGap
+      << " s (the nearest are " << std::setprecision(3)
+      << nearestTimestampGap(tumTimestamps(rgb), tumTimestamps(depth)) << " s apart)";
+  return msg.str();
 }
 
 }  // namespace

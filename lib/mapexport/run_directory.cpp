@@ -54,7 +54,8 @@ void writeExportOrigin(JsonWriter& j, const RunDirectory& run, const FrameSource
       .value("output", out_path);
 }
 
-std::string exportReportPath(const std::string& out_path) {
+std::string exportReportPath(const ExportOptions& options, const std::string& out_path) {
+  if (!options.report_path.empty()) return options.report_path;
   fs::path p(out_path);
   return (p.parent_path() / (p.filename().string() + ".export.json")).string();
 }
@@ -206,8 +207,7 @@ ExportResult exportRun(const RunDirectory& run, const FrameSource& source,
   }
   result.seconds = secondsSince(t_start);
   result.peak_rss_mb = peakRssMb();
-  result.report_path =
-      export_options.report_path.empty() ? exportReportPath(out_path) : export_options.report_path;
+  result.report_path = exportReportPath(export_options, out_path);
   writeReport(result.report_path, run, source, out_path, options, result, phases,
               builder.provenance());
   return result;

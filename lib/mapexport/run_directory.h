@@ -66,7 +66,7 @@ struct ExportOptions {
   /// has one; "": do not score.
   std::optional<std::string> truth_masks_dir;
   DynamicMaskSource masks = DynamicMaskSource::kRun;
-  /// Export report (JSON); empty: exportReportPath(out_path).
+  /// Export report (JSON); empty: next to the map (exportReportPath()).
   std::string report_path;
 };
 
@@ -90,10 +90,10 @@ struct ExportResult {
 void writeExportOrigin(JsonWriter& j, const RunDirectory& run, const FrameSource& source,
                        const std::string& out_path);
 
-/// MAP.ply -> MAP.ply.export.json (same folder): each map file has its own
-/// report, so MAP.ply, MAP.glb, MAP.bt and MAP.yaml exported side by side
-/// keep theirs.
-std::string exportReportPath(const std::string& out_path);
+/// options.report_path when set, else MAP.ply -> MAP.ply.export.json (same
+/// folder): each map file has its own report, so MAP.ply, MAP.glb, MAP.bt
+/// and MAP.yaml exported side by side keep theirs.
+std::string exportReportPath(const ExportOptions& options, const std::string& out_path);
 
 /// Fuses every keyframe of `run` found in `source` (|dt| < 1e-4 s) with its
 /// mask, writes `out_path` (.ply / .glb; parent folders are created) and,

@@ -195,7 +195,7 @@ OccupancyExportResult exportOccupancyRun(const RunDirectory& run, const FrameSou
   r.seconds = secondsSince(t_start);
   r.cpu_seconds = processCpuSeconds();
   r.peak_rss_mb = peakRssMb();
-  r.report_path = eo.run.report_path.empty() ? exportReportPath(out_path) : eo.run.report_path;
+  r.report_path = exportReportPath(eo.run, out_path);
   writeReport(r.report_path, run, source, dense, options, r);
   return r;
 }
