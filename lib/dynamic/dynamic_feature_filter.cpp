@@ -86,6 +86,14 @@ double mapInliersFlagged(const std::vector<uint8_t>& map_inlier,
   return inliers ? double(flagged) / double(inliers) : std::nan("");
 }
 
+/// A depth-backed camera point (z <= 0: none) in the world; non-finite
+/// (ignored by MovedSpaceMemory) without depth.
+cv::Vec3d worldPoint(const cv::Matx44d& pose_wc, const cv::Point3f& X) {
+  if (!(X.z > 0)) return cv::Vec3d(NAN, NAN, NAN);
+  const cv::Matx33d R = pose_wc.get_minor<3, 3>(0, 0);
+  return R * cv::Vec3d(X.x, X.y, X.z) + cv::Vec3d(pose_wc(0, 3), pose_wc(1, 3), pose_wc(2, 3));
+}
+
 }  // namespace
 
 DynamicFeatureFilter::DynamicFeatureFilter(const DynamicFilterParams& params,
@@ -382,18 +390,6 @@ bool DynamicFeatureFilter::judge(const cv::Matx44d& prev_pose_wc, const TrackedP
   prev_motion_mask_ = ev.mask;
   return true;
 }
-
-namespace {
-
-/// A depth-backed camera point (z <= 0: none) in the world; non-finite
-/// (ignored by MovedSpaceMemory) without depth.
-cv::Vec3d worldPoint(const cv::Matx44d& pose_wc, const cv::Point3f& X) {
-  if (!(X.z > 0)) return cv::Vec3d(NAN, NAN, NAN);
-  const cv::Matx33d R = pose_wc.get_minor<3, 3>(0, 0);
-  return R * cv::Vec3d(X.x, X.y, X.z) + cv::Vec3d(pose_wc(0, 3), pose_wc(1, 3), pose_wc(2, 3));
-}
-
-}  // namespace
 
 void DynamicFeatureFilter::voteMovedSpace(const cv::Matx44d& pose_wc, const MotionResult& judged) {
   const Judgement& j = judge_;
