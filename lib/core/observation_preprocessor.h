@@ -16,6 +16,11 @@ namespace dynslam {
 struct TrackedPose {
   bool has_pose = false;
   cv::Matx44d pose_wc = cv::Matx44d::eye();  ///< camera-to-world
+  /// The frame before, where the map puts it now (the tracker's reference
+  /// for the camera's motion between the two; a loop closure may have moved
+  /// it since it was tracked).
+  bool has_last_pose = false;
+  cv::Matx44d last_pose_wc = cv::Matx44d::eye();
   /// One per keypoint: 1 = matched to a map point and consistent with the
   /// pose (the map's evidence that the keypoint is static).
   std::vector<uint8_t> map_inliers;
@@ -47,8 +52,9 @@ class ObservationPreprocessor {
   }
   /// After every frameTracked(), whether it changed the flags or not: 1 per
   /// keypoint that its evidence could not judge (nothing was tracked near it
-  /// from the previous frame, or it lies where something was seen moving
-  /// lately), empty when every keypoint was judged. New map points are made
+  /// from the previous frame, it lies where something was seen moving
+  /// lately, or a judgement the map vetoed saw it moving), empty when every
+  /// keypoint was judged. New map points are made
   /// only from judged keypoints (FeatureSet::unjudged).
   virtual std::vector<uint8_t> unjudgedKeypoints() const { return {}; }
 };

@@ -284,12 +284,10 @@ bool DynamicFeatureFilter::frameTracked(std::size_t index, const TrackedPose& po
                                         std::vector<uint8_t>& dynamic) {
   const long f = long(index);
   bool changed = false;
-  if (pose.has_pose && tracked_frame_ == f - 1 && judge_.frame == f &&
+  if (pose.has_pose && pose.has_last_pose && judge_.frame == f &&
       dynamic.size() == judge_.keypoints.size())
-    changed = judge(tracked_pose_, pose, dynamic);
+    changed = judge(pose.last_pose_wc, pose, dynamic);
   judge_.frame = -1;
-  tracked_frame_ = pose.has_pose ? f : -1;
-  tracked_pose_ = pose.pose_wc;
   return changed;
 }
 
@@ -353,12 +351,23 @@ bool DynamicFeatureFilter::judge(const cv::Matx44d& prev_pose_wc, const TrackedP
   if (inliers_flagged > p_.max_map_inliers_flagged) {
     ++rejected_judgements_;
     mask_ = before;
+    // The map overrules the verdicts as a whole, so they flag nothing; but
+    // what they saw moving off the map's inliers is not vouched for
+    // either, and makes no map point (a walker filling the view would
+    // otherwise enter the map in the very frames whose judgement it spoils).
     unjudged_.assign(j.keypoints.size(), 0);
+    std::size_t doubted = 0;
+    for (std::size_t k = 0; k < verdict.size() && k < dynamic.size(); ++k)
+      if (verdict[k] && !dynamic[k] && !(k < pose.map_inliers.size() && pose.map_inliers[k])) {
+        unjudged_[k] = 1;
+        ++doubted;
+      }
     const std::size_t held_back = holdBackMovedSpace(pose.pose_wc, dynamic);
-    unjudged_count_ += held_back;
+    unjudged_count_ += doubted + held_back;
     logf(LogLevel::kTrace, "dynamic",
-         "frame %ld: judgement rejected: %.2f of the map inliers flagged (%zu in moved space)",
-         frame_, inliers_flagged, held_back);
+         "frame %ld: judgement rejected: %.2f of the map inliers flagged (%zu unjudged, %zu in "
+         "moved space)",
+         frame_, inliers_flagged, doubted, held_back);
     return false;
   }
   dynamic = std::move(verdict);

@@ -24,10 +24,12 @@
 //      and mapping (with the box surfaces of the boxes the detector still
 //      confirms, not of those carried on from a miss), and their moving
 //      points seed the next frame. Keypoints in space where tracks were seen
-//      moving recently (MovedSpaceMemory) make no map point: an object
-//      that stops and moves on again (a parked trolley, a person who
-//      waits) never enters the map, so the tracker's pose cannot follow it
-//      when it leaves.
+//      moving recently (MovedSpaceMemory) make no map point: an object that
+//      stops and moves on again (a parked trolley, a person who waits) never
+//      enters the map, so the tracker's pose cannot follow it when it
+//      leaves. A judgement that flags too many of the tracker's map inliers
+//      is vetoed: it flags nothing, and what it saw moving off the map's
+//      inliers makes no map point either.
 // A frame without a tracked pose (or after one) keeps its pre-flags.
 //
 // Cost: LK runs on at most max_flow_points keypoints of the previous frame
@@ -84,7 +86,7 @@ struct DynamicFilterParams {
   /// A judgement under the tracker's motion that flags more than this share
   /// of the keypoints the tracker matched to the map (static by the map's
   /// evidence) is not trusted: blur or a wrong pose, not movers; the frame
-  /// keeps its pre-flags.
+  /// keeps its pre-flags, and what it flagged off the map makes no map point.
   double max_map_inliers_flagged = 0.2;
   YoloDetectorParams detector;
   BoxDepthParams box_mask;
@@ -159,7 +161,8 @@ class DynamicFeatureFilter : public ObservationPreprocessor {
   /// frameTracked(): classify the last frame's tracks under the tracker's motion.
   /// False (flags unchanged) when the verdicts contradict the map: more
   /// than max_map_inliers_flagged of the tracker's map inliers flagged; the
-  /// moved space is held back all the same.
+  /// keypoints off the map's inliers that they flag are then unjudged, and
+  /// the moved space is held back all the same.
   bool judge(const cv::Matx44d& prev_pose_wc, const TrackedPose& pose,
              std::vector<uint8_t>& dynamic);
   /// Lets the judged tracks vote in moved_space_: static, or moving inside a
@@ -211,9 +214,6 @@ class DynamicFeatureFilter : public ObservationPreprocessor {
   // $DYNSLAM_DEBUG_DYNAMIC_DIR: per-frame PNG of the mask's parts (diagnostics).
   std::string debug_dir_;
   cv::Mat undilated_;
-  // The last tracked frame (-1: the last frame was not tracked) and its pose.
-  long tracked_frame_ = -1;
-  cv::Matx44d tracked_pose_;
   // What process() saw of this frame, for judge().
   struct Judgement {
     long frame = -1;

@@ -38,10 +38,16 @@ class Map {
   /// Held by whoever reads or changes map contents.
   std::mutex& mutex() { return mutex_; }
 
+  /// How many times a loop closure moved the map as a whole (under mutex()):
+  /// frames tracked before such a correction must follow their keyframes.
+  long corrections() const { return corrections_; }
+  void noteCorrection() { ++corrections_; }
+
  private:
   std::vector<std::unique_ptr<KeyFrame>> kfs_;
   std::vector<std::unique_ptr<MapPoint>> points_;
   long next_kf_id_ = 0, next_point_id_ = 0;
+  long corrections_ = 0;
   std::mutex mutex_;
 };
 

@@ -110,6 +110,8 @@ FrameOutcome SlamSystem::process(const RGBDFrame& frame) {
       if (pose.has_pose) {
         tracked.pose_wc = toMatx(pose.pose_wc);
         tracked.map_inliers = tracker_->currentMapInliers();
+        tracked.has_last_pose = pose.has_last_pose;
+        if (pose.has_last_pose) tracked.last_pose_wc = toMatx(pose.last_pose_wc);
       }
       if (preprocessor_->frameTracked(frame.index, tracked, feats->dynamic)) {
         out.dynamic_before_tracking = std::move(before);

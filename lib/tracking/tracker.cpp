@@ -34,6 +34,17 @@ void Tracker::startInMap(bool frozen) {
 TrackResult Tracker::estimatePose(std::shared_ptr<const FeatureSet> features, std::size_t index,
                                   double timestamp) {
   last_ = std::move(cur_);
+  // After a loop closure moved the map, the frame before follows its
+  // reference keyframe, so that the camera's motion between the two frames
+  // (the motion model's velocity, TrackResult::last_pose_wc) is not the
+  // correction. Not after a local BA: its keyframe's small moves are not
+  // the frame's own, and following them added noise to that motion
+  // (docs/benchmarks.md, 2026-12-06).
+  if (map_.corrections() != seen_corrections_) {
+    seen_corrections_ = map_.corrections();
+    if (last_.has_pose && !records_.empty() && records_.back().index == last_.index)
+      last_.setPose(records_.back().ref_kf->worldPose() + records_.back().rel);
+  }
   cur_ = Frame(next_frame_id_++, index, timestamp, std::move(features));
   pending_ = TrackResult();
   pending_open_ = true;
@@ -74,6 +85,8 @@ TrackResult Tracker::estimatePose(std::shared_ptr<const FeatureSet> features, st
   pending_.state = state_;
   pending_.has_pose = cur_.has_pose && state_ == TrackingState::kOk;
   if (pending_.has_pose) pending_.pose_wc = cur_.pose.wc();
+  pending_.has_last_pose = pending_.has_pose && last_.has_pose;
+  if (pending_.has_last_pose) pending_.last_pose_wc = last_.pose.wc();
   pending_.inliers = inliers_;
   return pending_;
 }

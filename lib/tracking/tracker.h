@@ -54,6 +54,11 @@ struct TrackResult {
   TrackingState state = TrackingState::kNotInitialized;
   bool has_pose = false;
   mrpt::poses::CPose3D pose_wc;
+  /// The frame before, where the map now puts it (it follows its reference
+  /// keyframe through a loop closure): the camera's motion between the two
+  /// frames is last_pose_wc -> pose_wc, in one map frame.
+  bool has_last_pose = false;
+  mrpt::poses::CPose3D last_pose_wc;
   bool new_keyframe = false;
   int inliers = 0;
 };
@@ -142,6 +147,7 @@ class Tracker {
   static constexpr int kDynamicMatchDistance = 50;
 
   Map& map_;
+  long seen_corrections_ = 0;  ///< map_.corrections() when the last frame was tracked
   KeyFrameSink& sink_;
   TrackerParams p_;
   PoseOptimizerParams optim_;

@@ -6,6 +6,7 @@
 // against the known movers.
 #include <gtest/gtest.h>
 
+#include <opencv2/calib3d.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -133,10 +134,13 @@ cv::Matx44d slidingCamera(std::size_t k) {
   return pose_wc;
 }
 
+// Frame k tracked (and frame k - 1 before it) on the true sliding poses.
 TrackedPose posed(std::size_t k) {
   TrackedPose t;
   t.has_pose = true;
   t.pose_wc = slidingCamera(k);
+  t.has_last_pose = k > 0;
+  if (k > 0) t.last_pose_wc = slidingCamera(k - 1);
   return t;
 }
 
@@ -189,6 +193,36 @@ TEST(DynamicFeatureFilterTwoPhases, FlowAloneFlagsMoversOfNoDetectorClass) {
   EXPECT_LT(f3.background_flagged, 0.02 * f3.background);
 }
 
+// A loop closure corrects the map between frames 1 and 2: the tracker
+// reports frame 2's pose, and frame 1's, in the corrected map (0.5 m and
+// 20 deg away from where frame 1 was tracked). The judgement must use the
+// camera's motion between the two as the map has them now, not frame 1's
+// pose as it was tracked: the walker alone is flagged, as without the
+// correction, and the wall is not.
+TEST(DynamicFeatureFilterTwoPhases, AMapCorrectionBetweenFramesIsNoMotion) {
+  const Sequence s = makeSequence();
+  DynamicFeatureFilter filter(flowOnly(), test::sceneCamera());
+  step(filter, s, 0, posed(0));
+  step(filter, s, 1, posed(1));
+  cv::Matx33d R;
+  cv::Rodrigues(cv::Vec3d(0.2, -0.25, 0.1), R);  // 19 deg
+  cv::Matx44d correction = cv::Matx44d::eye();
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) correction(r, c) = R(r, c);
+    correction(r, 3) = cv::Vec3d(0.4, 0.1, -0.3)[r];
+  }
+  TrackedPose corrected = posed(2);
+  corrected.pose_wc = correction * corrected.pose_wc;
+  corrected.last_pose_wc = correction * corrected.last_pose_wc;
+  const Phases p = step(filter, s, 2, corrected);
+  ASSERT_TRUE(p.changed);
+  const Shares f2 = score(s.keypoints[2], p.judged, 2);
+  ASSERT_GT(f2.in_walker, 20);
+  ASSERT_GT(f2.background, 200);
+  EXPECT_GT(f2.walker_flagged, 0.9 * f2.in_walker);
+  EXPECT_LT(f2.background_flagged, 0.02 * f2.background);
+}
+
 // Without the tracker's pose (lost frames) nothing is judged: the pre-flags
 // stay, and the late mover is never flagged.
 TEST(DynamicFeatureFilterTwoPhases, WithoutAPoseThePreFlagsStay) {
@@ -210,7 +244,7 @@ TEST(DynamicFeatureFilterTwoPhases, JudgementContradictingTheMapIsRejected) {
   const Sequence s = makeSequence();
   DynamicFeatureFilter filter(flowOnly(), test::sceneCamera());
   step(filter, s, 0, posed(0));
-  TrackedPose wrong = posed(0);
+  TrackedPose wrong = posed(1);
   wrong.pose_wc(0, 3) = -0.04;
   // The tracker's map inliers: the keypoints clear of both objects.
   wrong.map_inliers.assign(s.keypoints[1].size(), 0);
@@ -231,6 +265,55 @@ TEST(DynamicFeatureFilterTwoPhases, JudgementContradictingTheMapIsRejected) {
   truth.map_inliers = wrong.map_inliers;
   EXPECT_TRUE(step(right, s, 1, truth).changed);
   EXPECT_EQ(right.rejectedJudgements(), 0u);
+}
+
+// The map vetoes a judgement as a whole (here forced: max_map_inliers_flagged
+// below 0, the wall's keypoints the map inliers) in the frame where the late
+// mover first moves. The frame keeps its pre-flags, which do not know the
+// late mover yet; but what the vetoed judgement saw moving off the map's
+// inliers makes no map point either: unjudged, while the wall stays
+// mappable. Without that, the mover's keypoints would become map points in
+// the very frame a mover filling the view gets its judgement vetoed.
+TEST(DynamicFeatureFilterTwoPhases, WhatAVetoedJudgementSawMovingMakesNoMapPoint) {
+  const Sequence s = makeSequence();
+  DynamicFilterParams params = flowOnly();
+  params.max_map_inliers_flagged = -1;  // vetoes every judgement with map inliers
+  DynamicFeatureFilter filter(params, test::sceneCamera());
+  for (std::size_t k = 0; k < 3; ++k) step(filter, s, k, posed(k));  // no map inliers: no veto
+  ASSERT_EQ(filter.rejectedJudgements(), 0u);
+  const std::size_t k = 3;
+  const cv::Rect w = walker(int(k)), l = late_mover(int(k));
+  auto clear = [&](const cv::Point& p) {
+    return !(w + cv::Size(16, 16) - cv::Point(8, 8)).contains(p) &&
+           !(l + cv::Size(16, 16) - cv::Point(8, 8)).contains(p);
+  };
+  TrackedPose pose = posed(k);
+  pose.map_inliers.assign(s.keypoints[k].size(), 0);
+  for (std::size_t i = 0; i < s.keypoints[k].size(); ++i)
+    pose.map_inliers[i] =
+        clear(cv::Point(cvRound(s.keypoints[k][i].pt.x), cvRound(s.keypoints[k][i].pt.y)));
+  const Phases p = step(filter, s, k, pose);
+  ASSERT_FALSE(p.changed);
+  EXPECT_EQ(p.judged, p.pre);
+  EXPECT_EQ(filter.rejectedJudgements(), 1u);
+  const std::vector<uint8_t> u = filter.unjudgedKeypoints();
+  const cv::Rect inner(l.x + 3, l.y + 3, l.width - 6, l.height - 6);
+  int late = 0, late_held = 0, wall = 0, wall_mappable = 0;
+  for (std::size_t i = 0; i < s.keypoints[k].size(); ++i) {
+    const cv::Point q(cvRound(s.keypoints[k][i].pt.x), cvRound(s.keypoints[k][i].pt.y));
+    const bool held = i < u.size() && u[i];
+    if (inner.contains(q)) {
+      ++late;
+      late_held += held && !p.judged[i];
+    } else if (clear(q)) {
+      ++wall;
+      wall_mappable += !held && !p.judged[i];
+    }
+  }
+  ASSERT_GT(late, 30);
+  ASSERT_GT(wall, 200);
+  EXPECT_GT(late_held, 0.8 * late);
+  EXPECT_GT(wall_mappable, 0.95 * wall);
 }
 
 cv::Rect crowd(int k);
@@ -453,7 +536,9 @@ TEST(DynamicFeatureFilterTwoPhases, WhatWasSeenMovingStaysOutOfTheMapWhileItStan
     if (k < 6) continue;  // moving, then carried as moving for carry_frames
     ASSERT_TRUE(p.changed && q.changed) << k;
     ASSERT_EQ(v.changed, !veto) << k;
-    if (veto) EXPECT_EQ(v.judged, v.pre);
+    if (veto) {
+      EXPECT_EQ(v.judged, v.pre);
+    }
     const auto with_veto = mappable(vetoed, k, v.judged);
     EXPECT_LT(with_veto[0], 0.1) << k;
     EXPECT_GT(with_veto[1], 0.95) << k;
