@@ -54,8 +54,8 @@ class ObservationPreprocessor {
   /// keypoint that its evidence could not judge (nothing was tracked near it
   /// from the previous frame, it lies where something was seen moving
   /// lately, or a judgement the map vetoed saw it moving), empty when every
-  /// keypoint was judged. New map points are made
-  /// only from judged keypoints (FeatureSet::unjudged).
+  /// keypoint was judged. New map points are made only from judged
+  /// keypoints (FeatureSet::unjudged).
   virtual std::vector<uint8_t> unjudgedKeypoints() const { return {}; }
 };
 

@@ -154,8 +154,7 @@ void SlamSystem::finish() {
 
 Trajectory SlamSystem::frameTrajectory() const {
   Trajectory t;
-  for (const auto& r : tracker_->records())
-    t.push_back({r.timestamp, r.ref_kf->worldPose() + r.rel});
+  for (const auto& r : tracker_->records()) t.push_back({r.timestamp, r.worldPose()});
   return t;
 }
 

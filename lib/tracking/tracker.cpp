@@ -43,7 +43,7 @@ TrackResult Tracker::estimatePose(std::shared_ptr<const FeatureSet> features, st
   if (map_.corrections() != seen_corrections_) {
     seen_corrections_ = map_.corrections();
     if (last_.has_pose && !records_.empty() && records_.back().index == last_.index)
-      last_.setPose(records_.back().ref_kf->worldPose() + records_.back().rel);
+      last_.setPose(records_.back().worldPose());
   }
   cur_ = Frame(next_frame_id_++, index, timestamp, std::move(features));
   pending_ = TrackResult();

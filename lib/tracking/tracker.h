@@ -108,6 +108,8 @@ class Tracker {
     double timestamp;
     KeyFrame* ref_kf;
     mrpt::poses::CPose3D rel;  ///< pose relative to ref_kf
+    /// Where the map puts the frame now.
+    mrpt::poses::CPose3D worldPose() const { return ref_kf->worldPose() + rel; }
   };
   const std::vector<FramePoseRecord>& records() const { return records_; }
 

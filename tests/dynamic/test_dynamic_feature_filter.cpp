@@ -102,25 +102,36 @@ struct Shares {
   int background = 0, background_flagged = 0;
 };
 
+// r grown by m px on every side (shrunk for m < 0).
+cv::Rect grown(cv::Rect r, int m) { return {r.x - m, r.y - m, r.width + 2 * m, r.height + 2 * m}; }
+
+cv::Point pixel(const cv::KeyPoint& kp) { return {cvRound(kp.pt.x), cvRound(kp.pt.y)}; }
+
+// Clear (8 px) of both objects in frame k: the wall.
+bool onWall(const cv::Point& p, int k) {
+  return !grown(walker(k), 8).contains(p) && !grown(late_mover(k), 8).contains(p);
+}
+
+// The tracker's map inliers as a map of the wall would give them: the
+// keypoints of frame k on the wall.
+std::vector<uint8_t> wallInliers(const std::vector<cv::KeyPoint>& kps, int k) {
+  std::vector<uint8_t> in(kps.size(), 0);
+  for (std::size_t i = 0; i < kps.size(); ++i) in[i] = onWall(pixel(kps[i]), k);
+  return in;
+}
+
 // Keypoints well inside (3 px) each object, and clear (8 px) of both.
 Shares score(const std::vector<cv::KeyPoint>& kps, const std::vector<uint8_t>& dyn, int k) {
   Shares s;
-  const cv::Rect w = walker(k), l = late_mover(k);
-  auto inner = [](cv::Rect r, int m) {
-    return cv::Rect(r.x + m, r.y + m, r.width - 2 * m, r.height - 2 * m);
-  };
-  auto outer = [](cv::Rect r, int m) {
-    return cv::Rect(r.x - m, r.y - m, r.width + 2 * m, r.height + 2 * m);
-  };
   for (std::size_t i = 0; i < kps.size(); ++i) {
-    const cv::Point p(cvRound(kps[i].pt.x), cvRound(kps[i].pt.y));
-    if (inner(w, 3).contains(p)) {
+    const cv::Point p = pixel(kps[i]);
+    if (grown(walker(k), -3).contains(p)) {
       ++s.in_walker;
       s.walker_flagged += dyn[i];
-    } else if (inner(l, 3).contains(p)) {
+    } else if (grown(late_mover(k), -3).contains(p)) {
       ++s.in_late;
       s.late_flagged += dyn[i];
-    } else if (!outer(w, 8).contains(p) && !outer(l, 8).contains(p)) {
+    } else if (onWall(p, k)) {
       ++s.background;
       s.background_flagged += dyn[i];
     }
@@ -246,14 +257,7 @@ TEST(DynamicFeatureFilterTwoPhases, JudgementContradictingTheMapIsRejected) {
   step(filter, s, 0, posed(0));
   TrackedPose wrong = posed(1);
   wrong.pose_wc(0, 3) = -0.04;
-  // The tracker's map inliers: the keypoints clear of both objects.
-  wrong.map_inliers.assign(s.keypoints[1].size(), 0);
-  for (std::size_t i = 0; i < s.keypoints[1].size(); ++i) {
-    const cv::Point p(cvRound(s.keypoints[1][i].pt.x), cvRound(s.keypoints[1][i].pt.y));
-    const cv::Rect w = walker(1), l = late_mover(1);
-    wrong.map_inliers[i] = !(w + cv::Size(16, 16) - cv::Point(8, 8)).contains(p) &&
-                           !(l + cv::Size(16, 16) - cv::Point(8, 8)).contains(p);
-  }
+  wrong.map_inliers = wallInliers(s.keypoints[1], 1);
   const Phases p = step(filter, s, 1, wrong);
   EXPECT_FALSE(p.changed);
   EXPECT_EQ(p.judged, p.pre);
@@ -282,30 +286,22 @@ TEST(DynamicFeatureFilterTwoPhases, WhatAVetoedJudgementSawMovingMakesNoMapPoint
   for (std::size_t k = 0; k < 3; ++k) step(filter, s, k, posed(k));  // no map inliers: no veto
   ASSERT_EQ(filter.rejectedJudgements(), 0u);
   const std::size_t k = 3;
-  const cv::Rect w = walker(int(k)), l = late_mover(int(k));
-  auto clear = [&](const cv::Point& p) {
-    return !(w + cv::Size(16, 16) - cv::Point(8, 8)).contains(p) &&
-           !(l + cv::Size(16, 16) - cv::Point(8, 8)).contains(p);
-  };
   TrackedPose pose = posed(k);
-  pose.map_inliers.assign(s.keypoints[k].size(), 0);
-  for (std::size_t i = 0; i < s.keypoints[k].size(); ++i)
-    pose.map_inliers[i] =
-        clear(cv::Point(cvRound(s.keypoints[k][i].pt.x), cvRound(s.keypoints[k][i].pt.y)));
+  pose.map_inliers = wallInliers(s.keypoints[k], int(k));
   const Phases p = step(filter, s, k, pose);
   ASSERT_FALSE(p.changed);
   EXPECT_EQ(p.judged, p.pre);
   EXPECT_EQ(filter.rejectedJudgements(), 1u);
   const std::vector<uint8_t> u = filter.unjudgedKeypoints();
-  const cv::Rect inner(l.x + 3, l.y + 3, l.width - 6, l.height - 6);
+  const cv::Rect inner = grown(late_mover(int(k)), -3);
   int late = 0, late_held = 0, wall = 0, wall_mappable = 0;
   for (std::size_t i = 0; i < s.keypoints[k].size(); ++i) {
-    const cv::Point q(cvRound(s.keypoints[k][i].pt.x), cvRound(s.keypoints[k][i].pt.y));
+    const cv::Point q = pixel(s.keypoints[k][i]);
     const bool held = i < u.size() && u[i];
     if (inner.contains(q)) {
       ++late;
       late_held += held && !p.judged[i];
-    } else if (clear(q)) {
+    } else if (onWall(q, int(k))) {
       ++wall;
       wall_mappable += !held && !p.judged[i];
     }
@@ -366,7 +362,7 @@ Shares scoreCrowd(const std::vector<cv::KeyPoint>& kps, const std::vector<uint8_
   const cv::Rect inner(c.x + 3, c.y + 3, c.width - 6, c.height - 6);
   const cv::Rect outer(c.x - 8, c.y - 8, c.width + 16, c.height + 16);
   for (std::size_t i = 0; i < kps.size(); ++i) {
-    const cv::Point p(cvRound(kps[i].pt.x), cvRound(kps[i].pt.y));
+    const cv::Point p = pixel(kps[i]);
     if (inner.contains(p)) {
       ++s.in_walker;
       s.walker_flagged += dyn[i];
@@ -408,7 +404,7 @@ TEST(DynamicFeatureFilterTwoPhases, CrowdFillingTheViewIsFlaggedNotTheWalls) {
     // and the judgement: every keypoint flagged before or after lies on it.
     std::size_t off_mask = 0;
     for (std::size_t i = 0; i < p.judged.size(); ++i) {
-      const cv::Point q(cvRound(s.keypoints[k][i].pt.x), cvRound(s.keypoints[k][i].pt.y));
+      const cv::Point q = pixel(s.keypoints[k][i]);
       if ((p.pre[i] || p.judged[i]) && !filter.lastMask().at<uint8_t>(q)) ++off_mask;
     }
     EXPECT_EQ(off_mask, 0u) << k;
@@ -450,7 +446,7 @@ TEST(DynamicFeatureFilterTwoPhases, KeypointsOfWhatEntersTheViewAreUnjudgedOnce)
     const cv::Rect outer(at(int(k)).x - 15, at(int(k)).y - 15, 130, 130);
     int in = 0, in_mappable = 0, in_unjudged = 0, out = 0, out_mappable = 0;
     for (std::size_t i = 0; i < u.size() && i < s.keypoints[k].size(); ++i) {
-      const cv::Point p(cvRound(s.keypoints[k][i].pt.x), cvRound(s.keypoints[k][i].pt.y));
+      const cv::Point p = pixel(s.keypoints[k][i]);
       const int ok = !u[i] && !dynamic[i];
       if (inner.contains(p))
         ++in, in_mappable += ok, in_unjudged += u[i];
@@ -508,7 +504,7 @@ TEST(DynamicFeatureFilterTwoPhases, WhatWasSeenMovingStaysOutOfTheMapWhileItStan
     const cv::Rect outer(at(int(k)).x - 15, at(int(k)).y - 15, 120, 120);
     int in = 0, in_ok = 0, out = 0, out_ok = 0;
     for (std::size_t i = 0; i < s.keypoints[k].size(); ++i) {
-      const cv::Point p(cvRound(s.keypoints[k][i].pt.x), cvRound(s.keypoints[k][i].pt.y));
+      const cv::Point p = pixel(s.keypoints[k][i]);
       const int ok = !(i < u.size() && u[i]) && !dynamic[i];
       if (inner.contains(p))
         ++in, in_ok += ok;
@@ -583,8 +579,7 @@ TEST(DynamicFeatureFilterTwoPhases, ABoxTheDetectorNoLongerConfirmsFlagsNothingA
     ASSERT_GT(box.area(), 60 * 100) << "frame " << k;
     int in = 0, pre = 0, judged = 0;
     for (std::size_t i = 0; i < s.keypoints[k].size(); ++i)
-      if (box.contains(cv::Point(cvRound(s.keypoints[k][i].pt.x), cvRound(s.keypoints[k][i].pt.y))))
-        ++in, pre += ph.pre[i], judged += ph.judged[i];
+      if (box.contains(pixel(s.keypoints[k][i]))) ++in, pre += ph.pre[i], judged += ph.judged[i];
     ASSERT_GT(in, 30) << "frame " << k;
     RecordProperty("wall_in_box_judged_flagged_frame" + std::to_string(k), judged);
     EXPECT_GT(pre, in / 2) << "frame " << k << ": the carried box no longer pre-flags";

@@ -162,11 +162,12 @@ TEST(Tracker, FiveFrameStepsStayAtTheTruth) {
 
 // A correction of the whole map between two frames (what a loop closure
 // does: every keyframe and point moved by one rigid transform, here 0.4 m
-// and 25 deg, and Map::noteCorrection()). The frame before must move with its reference keyframe,
-// so that the camera's motion between the frames, and the velocity the next prediction uses, are
-// the true ones and not the correction. Without that the velocity holds the correction and the next
-// prediction misses by 0.71 m and 24 deg (measured). Measured with it: the prediction 2 mm from the
-// truth.
+// and 25 deg, and Map::noteCorrection()). The frame before must move with
+// its reference keyframe, so that the camera's motion between the frames,
+// and the velocity the next prediction uses, are the true ones and not the
+// correction. Without that the velocity holds the correction and the next
+// prediction misses by 0.71 m and 24 deg (measured). Measured with it: the
+// prediction 2 mm from the truth.
 TEST(Tracker, AMapCorrectionBetweenFramesMovesTheFrameBeforeWithIt) {
   const SyntheticData& data = twoLapData();
   TrackingHarness h(data.camera(), harnessConfig());
