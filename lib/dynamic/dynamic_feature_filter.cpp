@@ -284,9 +284,17 @@ bool DynamicFeatureFilter::frameTracked(std::size_t index, const TrackedPose& po
                                         std::vector<uint8_t>& dynamic) {
   const long f = long(index);
   bool changed = false;
-  if (pose.has_pose && pose.has_last_pose && judge_.frame == f &&
-      dynamic.size() == judge_.keypoints.size())
-    changed = judge(pose.last_pose_wc, pose, dynamic);
+  if (pose.has_pose && judge_.frame == f && dynamic.size() == judge_.keypoints.size()) {
+    if (pose.has_last_pose) {
+      changed = judge(pose.last_pose_wc, pose, dynamic);
+    } else {
+      // Tracked again after lost frames (a relocalisation): no camera motion
+      // to judge the flow under, but the space seen moving before is known
+      // in the map's frame, and what stands there makes no map point.
+      unjudged_.assign(judge_.keypoints.size(), 0);
+      unjudged_count_ += holdBackMovedSpace(pose.pose_wc, dynamic);
+    }
+  }
   judge_.frame = -1;
   return changed;
 }

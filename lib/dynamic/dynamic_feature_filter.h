@@ -113,8 +113,10 @@ class DynamicFeatureFilter : public ObservationPreprocessor {
                const std::vector<cv::KeyPoint>& keypoints, std::vector<uint8_t>& dynamic) override;
   /// Judges the frame's tracked points under the tracker's camera motion
   /// into it (when this frame and the one before have a pose): the new flags
-  /// replace the pre-flags of process() and seed the next frame. Returns
-  /// whether it judged (and so rewrote `dynamic`).
+  /// replace the pre-flags of process() and seed the next frame. A frame
+  /// tracked after lost ones is not judged, but its keypoints in space seen
+  /// moving lately are unjudged all the same. Returns whether it judged
+  /// (and so rewrote `dynamic`).
   bool frameTracked(std::size_t index, const TrackedPose& pose,
                     std::vector<uint8_t>& dynamic) override;
   /// The keypoints of the last judgement that lie where the previous

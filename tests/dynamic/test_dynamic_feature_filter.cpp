@@ -477,6 +477,41 @@ TEST(DynamicFeatureFilterTwoPhases, KeypointsOfWhatEntersTheViewAreUnjudgedOnce)
   EXPECT_GT(second[1], 0.95);
 }
 
+namespace {
+
+// At 2 m: 6 px left a frame with the camera, and 10 px down a frame of its
+// own until frame 3; standing from then on.
+cv::Rect stopper(int k) { return cv::Rect(200 - 6 * k, 20 + 10 * std::min(k, 3), 90, 90); }
+
+Sequence makeStopperSequence() {
+  cv::RNG rng(11);
+  const cv::Mat wall = test::noiseTexture(rng, {W + 100, H + 60}),
+                patch = test::noiseTexture(rng, {90, 90});
+  return slidingWall(wall, 10, {{patch, 2.0, stopper}});
+}
+
+// Shares of frame k's keypoints inside the stopper / on the wall clear of it
+// that may become map points (neither unjudged nor flagged).
+std::array<double, 2> stopperMappable(const Sequence& s, const std::vector<uint8_t>& unjudged,
+                                      std::size_t k, const std::vector<uint8_t>& dynamic) {
+  const cv::Rect at = stopper(int(k));
+  const cv::Rect inner(at.x + 10, at.y + 10, 70, 70), outer(at.x - 15, at.y - 15, 120, 120);
+  int in = 0, in_ok = 0, out = 0, out_ok = 0;
+  for (std::size_t i = 0; i < s.keypoints[k].size(); ++i) {
+    const cv::Point p = pixel(s.keypoints[k][i]);
+    const int ok = !(i < unjudged.size() && unjudged[i]) && !dynamic[i];
+    if (inner.contains(p))
+      ++in, in_ok += ok;
+    else if (!outer.contains(p) && p.x < W - 20)
+      ++out, out_ok += ok;  // the right edge enters the view
+  }
+  EXPECT_GT(in, 20);
+  EXPECT_GT(out, 200);
+  return {double(in_ok) / std::max(1, in), double(out_ok) / std::max(1, out)};
+}
+
+}  // namespace
+
 // An object seen moving that then stands still (a trolley parked, a person
 // who stops): while it stands the motion check finds nothing, yet none of
 // its keypoints may become a map point, or the tracker would follow it when
@@ -488,33 +523,10 @@ TEST(DynamicFeatureFilterTwoPhases, KeypointsOfWhatEntersTheViewAreUnjudgedOnce)
 // same: what earlier frames saw moving there does not depend on this frame's
 // verdicts.
 TEST(DynamicFeatureFilterTwoPhases, WhatWasSeenMovingStaysOutOfTheMapWhileItStands) {
-  cv::RNG rng(11);
-  const cv::Mat wall = test::noiseTexture(rng, {W + 60, H + 60}),
-                patch = test::noiseTexture(rng, {90, 90});
-  // At 2 m: 6 px left a frame with the camera, and 10 px down a frame of its
-  // own until frame 3; standing from then on.
-  auto at = [](int k) { return cv::Rect(200 - 6 * k, 20 + 10 * std::min(k, 3), 90, 90); };
-  const Sequence s = slidingWall(wall, 8, {{patch, 2.0, at}});
-  // Shares of the keypoints inside the object / on the wall clear of it
-  // that may become map points (neither unjudged nor flagged).
+  const Sequence s = makeStopperSequence();
   auto mappable = [&](const DynamicFeatureFilter& f, std::size_t k,
                       const std::vector<uint8_t>& dynamic) {
-    const std::vector<uint8_t> u = f.unjudgedKeypoints();
-    const cv::Rect inner(at(int(k)).x + 10, at(int(k)).y + 10, 70, 70);
-    const cv::Rect outer(at(int(k)).x - 15, at(int(k)).y - 15, 120, 120);
-    int in = 0, in_ok = 0, out = 0, out_ok = 0;
-    for (std::size_t i = 0; i < s.keypoints[k].size(); ++i) {
-      const cv::Point p = pixel(s.keypoints[k][i]);
-      const int ok = !(i < u.size() && u[i]) && !dynamic[i];
-      if (inner.contains(p))
-        ++in, in_ok += ok;
-      else if (!outer.contains(p) && p.x < W - 20)
-        ++out, out_ok += ok;  // the right edge enters the view
-    }
-    EXPECT_GT(in, 20);
-    EXPECT_GT(out, 200);
-    return std::array<double, 2>{double(in_ok) / std::max(1, in),
-                                 double(out_ok) / std::max(1, out)};
+    return stopperMappable(s, f.unjudgedKeypoints(), k, dynamic);
   };
   DynamicFilterParams off_params = flowOnly();
   off_params.moved_space.memory_frames = 0;
@@ -546,6 +558,27 @@ TEST(DynamicFeatureFilterTwoPhases, WhatWasSeenMovingStaysOutOfTheMapWhileItStan
     EXPECT_GT(without[0], 0.8) << k;
     EXPECT_GT(without[1], 0.95) << k;
   }
+}
+
+// Tracking comes back (a relocalisation) while the object seen moving
+// stands: the frame before has no pose, so there is no camera motion to
+// judge the flow under, and the frame keeps its pre-flags. What earlier
+// frames saw moving is known in the map's frame all the same: the standing
+// object's keypoints make no map point, and the wall's stay mappable.
+TEST(DynamicFeatureFilterTwoPhases, AfterLostFramesWhatWasSeenMovingStaysOutOfTheMap) {
+  const Sequence s = makeStopperSequence();
+  DynamicFeatureFilter filter(flowOnly(), test::sceneCamera());
+  for (std::size_t k = 0; k < 7; ++k) step(filter, s, k, posed(k));
+  step(filter, s, 7, TrackedPose{});  // lost
+  TrackedPose relocalised = posed(8);
+  relocalised.has_last_pose = false;
+  const Phases p = step(filter, s, 8, relocalised);
+  EXPECT_FALSE(p.changed);
+  EXPECT_EQ(p.judged, p.pre);
+  const auto shares = stopperMappable(s, filter.unjudgedKeypoints(), 8, p.judged);
+  RecordProperty("standing_mappable_pct", int(100 * shares[0]));
+  EXPECT_LT(shares[0], 0.1);
+  EXPECT_GT(shares[1], 0.95);
 }
 
 // A person (a photo, so the real detector finds it) stands in front of the
