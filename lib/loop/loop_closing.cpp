@@ -201,10 +201,6 @@ bool LoopClosing::verifyAndClose(KeyFrame* kf, KeyFrame* cand) {
        "closed kf %ld -> %ld: ok %d, %d kfs, %d merged, %d fused, %.1f ms, GBA %.0f ms", kf->id,
        cand->id, cs.ok ? 1 : 0, cs.keyframes, cs.merged, cs.fused, cs.time_ms, gba_ms);
   if (!cs.ok) return false;
-  {
-    std::lock_guard<std::mutex> lk(map_.mutex());
-    map_.noteCorrection();
-  }
   last_loop_kf_ = kf->id;
   groups_.clear();
   std::lock_guard<std::mutex> lk(stats_mutex_);

@@ -181,6 +181,7 @@ LoopCorrectionStats LoopCorrector::correct(const LoopClosure& lc) {
       ++st.points_moved;
     }
     loop_edges_.emplace_back(cur, loop_kf);
+    map_.noteCorrection();  // frames tracked before follow their keyframes
   }
   st.ok = r.ok;
   st.time_ms = msSince(t0);

@@ -38,7 +38,8 @@ class Map {
   /// Held by whoever reads or changes map contents.
   std::mutex& mutex() { return mutex_; }
 
-  /// How many times a loop closure moved the map as a whole (under mutex()):
+  /// How many times a loop closure moved the map as a whole (LoopCorrector
+  /// counts them under mutex()):
   /// frames tracked before such a correction must follow their keyframes.
   long corrections() const { return corrections_; }
   void noteCorrection() { ++corrections_; }

@@ -61,8 +61,11 @@ TEST(LoopCorrector, CutsDriftByMoreThan80Percent) {
   ASSERT_GT(a.n_inliers, 100);
 
   LoopCorrector corrector(map);
+  ASSERT_EQ(map.corrections(), 0);
   const LoopCorrectionStats st = corrector.correct(lc);
   ASSERT_TRUE(st.ok);
+  // Counted, so that the tracker moves the frame before with its keyframe.
+  EXPECT_EQ(map.corrections(), 1);
   double max1, rms1, pmax1, prms1;
   s.keyframeError(max1, rms1);
   s.pointError(map, pmax1, prms1);
@@ -171,5 +174,6 @@ TEST(LoopCorrector, RejectsInvalidInput) {
   s.kfs[7]->setBad();
   EXPECT_FALSE(corrector.correct(lc).ok);
   EXPECT_TRUE(corrector.loopEdges().empty());
+  EXPECT_EQ(map.corrections(), 0);
   EXPECT_EQ(s.kfs[10]->pose.wc().asString(), before.asString());
 }
