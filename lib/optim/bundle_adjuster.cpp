@@ -73,14 +73,7 @@ class BAState {
 /// chi2 of one observation; +inf when the point is not in front of the camera.
 double chi2Of(const ProjectionModel& cam, const optim::Rigid& T_cw, const Eigen::Vector3d& pw,
               const BAObservation& o) {
-  const Eigen::Vector3d pc = T_cw * pw;
-  if (!(pc.z() > optim::kMinDepth)) return std::numeric_limits<double>::infinity();
-  if (hasDepth(o)) {
-    const Eigen::Vector3d r =
-        cam.projectStereo(pc) - Eigen::Vector3d(o.pixel.x(), o.pixel.y(), o.ur);
-    return o.inv_sigma2 * r.squaredNorm();
-  }
-  return o.inv_sigma2 * (cam.project(pc) - o.pixel).squaredNorm();
+  return optim::observationChi2(cam, T_cw * pw, o);
 }
 
 double thresholdOf(const BAObservation& o, const BAParams& params) {

@@ -79,14 +79,7 @@ Linearization linearize(const ProjectionModel& cam, const Rigid& T_cw,
 
 /// chi2 of one observation at a pose; +inf when the point is not in front.
 double chi2Of(const ProjectionModel& cam, const Rigid& T_cw, const PoseObservation& o) {
-  const Eigen::Vector3d pc = T_cw * o.point_world;
-  if (!(pc.z() > optim::kMinDepth)) return std::numeric_limits<double>::infinity();
-  if (hasDepth(o)) {
-    const Eigen::Vector3d r =
-        cam.projectStereo(pc) - Eigen::Vector3d(o.pixel.x(), o.pixel.y(), o.ur);
-    return o.inv_sigma2 * r.squaredNorm();
-  }
-  return o.inv_sigma2 * (cam.project(pc) - o.pixel).squaredNorm();
+  return optim::observationChi2(cam, T_cw * o.point_world, o);
 }
 
 /// Marks each observation inlier/outlier at T_cw; returns the inlier count.

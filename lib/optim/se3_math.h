@@ -19,6 +19,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <cmath>
+#include <limits>
 
 #include "optim/camera_projection.h"
 
@@ -30,6 +31,22 @@ using Matrix6d = Eigen::Matrix<double, 6, 6>;
 /// Points closer than this (or behind) the camera are not projected: the
 /// projection and its Jacobian blow up at z -> 0.
 constexpr double kMinDepth = 1e-6;
+
+/// Weighted squared reprojection error (chi2) of an observation `o` (its
+/// undistorted `pixel`, `ur` >= 0 when the keypoint has depth, `inv_sigma2`)
+/// of the camera-frame point pc: the one outlier test of tracking and BA.
+/// +inf when pc is not in front of the camera.
+template <class Observation>
+double observationChi2(const ProjectionModel& cam, const Eigen::Vector3d& pc,
+                       const Observation& o) {
+  if (!(pc.z() > kMinDepth)) return std::numeric_limits<double>::infinity();
+  if (o.ur >= 0.0) {
+    const Eigen::Vector3d r =
+        cam.projectStereo(pc) - Eigen::Vector3d(o.pixel.x(), o.pixel.y(), o.ur);
+    return o.inv_sigma2 * r.squaredNorm();
+  }
+  return o.inv_sigma2 * (cam.project(pc) - o.pixel).squaredNorm();
+}
 
 /// A rigid transform as plain Eigen values, for hot loops (CPose3D stores the
 /// same matrix, but accessing it through MRPT's wrappers costs more).
