@@ -38,9 +38,9 @@ class Map {
   /// Held by whoever reads or changes map contents.
   std::mutex& mutex() { return mutex_; }
 
-  /// How many times a loop closure moved the map as a whole (LoopCorrector
-  /// counts them under mutex()):
-  /// frames tracked before such a correction must follow their keyframes.
+  /// How many times a loop closure moved the map as a whole (counted by
+  /// LoopCorrector under mutex()): frames tracked before such a correction
+  /// must follow their keyframes.
   long corrections() const { return corrections_; }
   void noteCorrection() { ++corrections_; }
 
