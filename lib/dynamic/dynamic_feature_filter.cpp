@@ -291,7 +291,6 @@ bool DynamicFeatureFilter::frameTracked(std::size_t index, const TrackedPose& po
       // Tracked again after lost frames (a relocalisation): no camera motion
       // to judge the flow under, but the space seen moving before is known
       // in the map's frame, and what stands there makes no map point.
-      unjudged_.assign(judge_.keypoints.size(), 0);
       unjudged_count_ += holdBackMovedSpace(pose.pose_wc, dynamic);
     }
   }

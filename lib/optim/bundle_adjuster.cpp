@@ -27,7 +27,7 @@ namespace {
 using optim::kPoseBlockSize;
 using PoseBlock = std::array<double, kPoseBlockSize>;
 
-bool hasDepth(const BAObservation& o) { return o.ur >= 0.0; }
+using optim::hasDepth;
 
 bool validIndices(const BAProblem& p, const BAObservation& o) {
   return o.keyframe >= 0 && o.keyframe < static_cast<int>(p.keyframes.size()) && o.point >= 0 &&

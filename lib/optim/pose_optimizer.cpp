@@ -18,11 +18,10 @@
 namespace dynslam {
 namespace {
 
+using optim::hasDepth;
 using optim::Matrix6d;
 using optim::Rigid;
 using optim::Vector6d;
-
-bool hasDepth(const PoseObservation& o) { return o.ur >= 0.0; }
 
 /// The normal equations H delta = -b and the (robust) cost at one pose.
 struct Linearization {

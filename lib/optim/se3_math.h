@@ -32,6 +32,13 @@ using Matrix6d = Eigen::Matrix<double, 6, 6>;
 /// projection and its Jacobian blow up at z -> 0.
 constexpr double kMinDepth = 1e-6;
 
+/// Whether an observation (BAObservation, PoseObservation) has a depth: its
+/// virtual right coordinate ur is set (>= 0).
+template <class Observation>
+bool hasDepth(const Observation& o) {
+  return o.ur >= 0.0;
+}
+
 /// Weighted squared reprojection error (chi2) of an observation `o` (its
 /// undistorted `pixel`, `ur` >= 0 when the keypoint has depth, `inv_sigma2`)
 /// of the camera-frame point pc: the one outlier test of tracking and BA.
@@ -40,7 +47,7 @@ template <class Observation>
 double observationChi2(const ProjectionModel& cam, const Eigen::Vector3d& pc,
                        const Observation& o) {
   if (!(pc.z() > kMinDepth)) return std::numeric_limits<double>::infinity();
-  if (o.ur >= 0.0) {
+  if (hasDepth(o)) {
     const Eigen::Vector3d r =
         cam.projectStereo(pc) - Eigen::Vector3d(o.pixel.x(), o.pixel.y(), o.ur);
     return o.inv_sigma2 * r.squaredNorm();
