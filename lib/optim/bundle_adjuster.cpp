@@ -70,12 +70,6 @@ class BAState {
   std::vector<PoseBlock> blocks_;
 };
 
-/// chi2 of one observation; +inf when the point is not in front of the camera.
-double chi2Of(const ProjectionModel& cam, const optim::Rigid& T_cw, const Eigen::Vector3d& pw,
-              const BAObservation& o) {
-  return optim::observationChi2(cam, T_cw * pw, o);
-}
-
 double thresholdOf(const BAObservation& o, const BAParams& params) {
   return hasDepth(o) ? params.chi2_stereo : params.chi2_mono;
 }
@@ -88,7 +82,7 @@ std::vector<double> allChi2(const BAProblem& p, const BAState& s) {
   for (std::size_t i = 0; i < chi2.size(); ++i) {
     const auto& o = p.observations[i];
     if (validIndices(p, o))
-      chi2[i] = chi2Of(p.camera, poses[o.keyframe], p.points[o.point].position, o);
+      chi2[i] = optim::observationChi2(p.camera, poses[o.keyframe] * p.points[o.point].position, o);
   }
   return chi2;
 }

@@ -76,18 +76,13 @@ Linearization linearize(const ProjectionModel& cam, const Rigid& T_cw,
   return lin;
 }
 
-/// chi2 of one observation at a pose; +inf when the point is not in front.
-double chi2Of(const ProjectionModel& cam, const Rigid& T_cw, const PoseObservation& o) {
-  return optim::observationChi2(cam, T_cw * o.point_world, o);
-}
-
 /// Marks each observation inlier/outlier at T_cw; returns the inlier count.
 int classify(const ProjectionModel& cam, const Rigid& T_cw, const std::vector<PoseObservation>& obs,
              const PoseOptimizerParams& p, std::vector<bool>& inlier) {
   int n = 0;
   for (std::size_t i = 0; i < obs.size(); ++i) {
     const double threshold = hasDepth(obs[i]) ? p.chi2_stereo : p.chi2_mono;
-    inlier[i] = chi2Of(cam, T_cw, obs[i]) <= threshold;
+    inlier[i] = optim::observationChi2(cam, T_cw * obs[i].point_world, obs[i]) <= threshold;
     n += inlier[i] ? 1 : 0;
   }
   return n;
