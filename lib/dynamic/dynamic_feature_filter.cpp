@@ -10,6 +10,7 @@
 
 #include "core/log.h"
 #include "core/timing.h"
+#include "dynamic/track_neighbours.h"
 
 namespace dynslam {
 namespace {
@@ -72,6 +73,16 @@ std::vector<uint8_t> keypointsOnCoveredTracks(const std::vector<cv::KeyPoint>& k
   }
   return out;
 }
+
+// The dense flow's test takes 1.5 x the judgement's reprojection threshold:
+// DIS at half resolution is less precise than LK on a keypoint, and at 1.0
+// or 1.25 x it flagged more than 8 % of rpy_close's static keypoints
+// (docs/benchmarks.md, 2026-12-06).
+constexpr float kDenseThresholdScale = 1.5f;
+
+// A keypoint whose nearest judged track within this many track spacings
+// moved makes no map point (keypointsNearestToMovingTracks).
+constexpr double kMovingNeighbourSpacings = 1.5;
 
 // Share of the map's keypoints (map_inlier[i]) that `flags` marks dynamic;
 // NaN without any, so that every comparison with a bound is false.
@@ -161,6 +172,11 @@ cv::Mat DynamicFeatureFilter::prepare(const RGBDFrame& frame, const cv::Mat& gra
   MotionFrame& cur = cur_;
   cur = motion_.makeFrame(gray.clone(), frame.depth);
   times_["pyramid"].push_back(msSince(t0));
+  if (p_.use_flow) {
+    t0 = SteadyClock::now();
+    dense_flow_.addFrame(gray);
+    times_["dense_flow"].push_back(msSince(t0));
+  }
 
   // LK of the previous frame's selected keypoints.
   t0 = SteadyClock::now();
@@ -350,10 +366,23 @@ bool DynamicFeatureFilter::judge(const cv::Matx44d& prev_pose_wc, const TrackedP
   const cv::Mat before = mask_.clone();
   std::vector<uint8_t> verdict(dynamic.size(), 0);
   buildMask(ev, j.box_mask);
-  const std::size_t flagged = flagOnMask(j.keypoints, verdict);
+  std::size_t flagged = flagOnMask(j.keypoints, verdict);
   // The map's evidence: keypoints the tracker matched to map points under
   // this pose are static; a judgement flagging most of them is wrong.
   const double inliers_flagged = mapInliersFlagged(pose.map_inliers, verdict);
+  // The dense flow's verdicts come last and are the weakest evidence: they
+  // are kept only where the map does not veto them too.
+  if (!(inliers_flagged > p_.max_map_inliers_flagged)) {
+    std::vector<uint8_t> with_flow = verdict;
+    const cv::Mat mask_before_flow = mask_.clone();
+    const std::size_t added = flagOnDenseFlow(ev.r, with_flow);
+    if (mapInliersFlagged(pose.map_inliers, with_flow) > p_.max_map_inliers_flagged) {
+      mask_ = mask_before_flow;
+    } else {
+      verdict.swap(with_flow);
+      flagged += added;
+    }
+  }
   times_["judge"].push_back(msSince(t0));
   if (inliers_flagged > p_.max_map_inliers_flagged) {
     ++rejected_judgements_;
@@ -387,6 +416,11 @@ bool DynamicFeatureFilter::judge(const cv::Matx44d& prev_pose_wc, const TrackedP
       coveredTracksNow(j.prev_points, ev.r.tracked, j.prev_depth, j.cur_depth, camera_, known,
                        p_.motion.depth_edge_ratio),
       size, spacing);
+  const std::vector<uint8_t> beside_moving =
+      keypointsNearestToMovingTracks(j.keypoints, j.cur_points, ev.r.tracked, ev.r.dynamic, size,
+                                     kMovingNeighbourSpacings * spacing);
+  for (std::size_t k = 0; k < unjudged_.size() && k < dynamic.size(); ++k)
+    if (!dynamic[k] && beside_moving[k]) unjudged_[k] = 1;
   voteMovedSpace(pose.pose_wc, ev.r);
   const std::size_t held_back = holdBackMovedSpace(pose.pose_wc, dynamic);
   const std::size_t unjudged = std::size_t(std::count(unjudged_.begin(), unjudged_.end(), 1));
@@ -509,6 +543,29 @@ std::size_t DynamicFeatureFilter::flagOnMask(const std::vector<cv::KeyPoint>& ke
       dynamic[i] = 1;
       ++n;
     }
+  }
+  return n;
+}
+
+std::size_t DynamicFeatureFilter::flagOnDenseFlow(const MotionResult& judged,
+                                                  std::vector<uint8_t>& dynamic) {
+  const GeometryResult& g = judged.geometry;
+  if (!g.has_pose || !dense_flow_.hasFlow()) return 0;
+  const Judgement& j = judge_;
+  CameraMotion motion;
+  motion.R = g.R;
+  motion.t = g.t;
+  const float threshold = kDenseThresholdScale *
+                          std::max(g.reprojection_threshold, p_.motion.reprojection_threshold_px);
+  const std::vector<float> e =
+      dense_flow_.residuals(j.keypoints, j.cur_depth, camera_, motion, p_.motion.depth_edge_ratio);
+  std::size_t n = 0;
+  for (std::size_t k = 0; k < e.size() && k < dynamic.size(); ++k) {
+    if (dynamic[k] || !(e[k] > threshold)) continue;  // (NaN: no test)
+    dynamic[k] = 1;
+    ++n;
+    cv::circle(mask_, j.keypoints[k].pt, p_.moving_point_radius_px + p_.mask_margin_px,
+               cv::Scalar(255), cv::FILLED);
   }
   return n;
 }

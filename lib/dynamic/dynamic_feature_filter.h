@@ -22,8 +22,12 @@
 //   3. frameTracked() classifies every track once under the tracker's
 //      motion: those flags replace the pre-flags for the keyframe decision
 //      and mapping (with the box surfaces of the boxes the detector still
-//      confirms, not of those carried on from a miss), and their moving
-//      points seed the next frame. Keypoints in space where tracks were seen
+//      confirms, not of those carried on from a miss, and every keypoint
+//      that a dense flow field shows moving against that motion:
+//      DenseFlowResiduals), and their moving points seed the next frame.
+//      A keypoint whose nearest judged track within 1.5 track spacings
+//      moved makes no map point: a person's outline, where the verdicts end,
+//      stays out of the map. Keypoints in space where tracks were seen
 //      moving recently (MovedSpaceMemory) make no map point: an object that
 //      stops and moves on again (a parked trolley, a person who waits) never
 //      enters the map, so the tracker's pose cannot follow it when it
@@ -34,7 +38,8 @@
 //
 // Cost: LK runs on at most max_flow_points keypoints of the previous frame
 // (keypoints carried as dynamic first), at half resolution by default; the
-// box carrying reuses those tracks. Per-stage times: stageTimes(), logged at
+// box carrying reuses those tracks. The dense flow adds about 5 ms of one
+// core a frame. Per-stage times: stageTimes(), logged at
 // exit at level debug (core/log.h), one line per frame at level trace.
 // DYNSLAM_DEBUG_DYNAMIC_DIR=DIR writes each frame's mask parts to
 // DIR/<frame>.png (blue: boxes, green: grown regions, red: all before the
@@ -46,6 +51,7 @@
 #include "core/camera.h"
 #include "core/observation_preprocessor.h"
 #include "dynamic/box_carrier.h"
+#include "dynamic/dense_flow_residuals.h"
 #include "dynamic/depth_masks.h"
 #include "dynamic/detector_thread.h"
 #include "dynamic/motion_check.h"
@@ -119,11 +125,15 @@ class DynamicFeatureFilter : public ObservationPreprocessor {
   /// (and so rewrote `dynamic`).
   bool frameTracked(std::size_t index, const TrackedPose& pose,
                     std::vector<uint8_t>& dynamic) override;
-  /// The keypoints of the last judgement that lie where the previous
-  /// frame's tracks were lost because something nearer now covers them
-  /// (under the tracker's motion), with no track surviving within one track
-  /// spacing (the image area per LK point): what came in front has not been
-  /// judged. (New view at the image edge, or tracks lost to blur, are not.)
+  /// The keypoints of the last judgement that no map point may be made
+  /// from: those that lie where the previous frame's tracks were lost
+  /// because something nearer now covers them (under the tracker's motion),
+  /// with no track surviving within one track spacing (the image area per
+  /// LK point): what came in front has not been judged (new view at the
+  /// image edge, or tracks lost to blur, are not); those whose nearest judged
+  /// track within 1.5 spacings moved; those in moved
+  /// space (MovedSpaceMemory); and, after a vetoed judgement, what it saw
+  /// moving off the map's inliers.
   std::vector<uint8_t> unjudgedKeypoints() const override { return unjudged_; }
 
   /// Dynamic-pixel mask (CV_8U, 255 = dynamic) of the last processed frame;
@@ -188,6 +198,11 @@ class DynamicFeatureFilter : public ObservationPreprocessor {
   /// Sets dynamic[i] = 1 for the keypoints on mask_; returns how many.
   std::size_t flagOnMask(const std::vector<cv::KeyPoint>& keypoints,
                          std::vector<uint8_t>& dynamic) const;
+  /// Sets dynamic[i] = 1 for the judged keypoints that the dense flow shows
+  /// moving against the judgement's camera motion (kDenseThresholdScale x
+  /// its reprojection threshold) and marks them on mask_ as moving points;
+  /// returns how many it added.
+  std::size_t flagOnDenseFlow(const MotionResult& judged, std::vector<uint8_t>& dynamic);
   void selectFlowPoints(const std::vector<cv::KeyPoint>& keypoints,
                         const std::vector<cv::Point2f>& carried,
                         const std::vector<uint8_t>& carried_age);
@@ -199,6 +214,7 @@ class DynamicFeatureFilter : public ObservationPreprocessor {
   BoxCarrier carrier_;
   MotionConsistencyCheck motion_;
   MovedSpaceMemory moved_space_;
+  DenseFlowResiduals dense_flow_;
   MotionFrame prev_, cur_;
   long prepared_frame_ = -1;              // frame prepare() ran for, until process()
   std::vector<cv::Point2f> pre_carried_;  // prepare()'s carried points, for process()

@@ -204,6 +204,29 @@ TEST(DynamicFeatureFilterTwoPhases, FlowAloneFlagsMoversOfNoDetectorClass) {
   EXPECT_LT(f3.background_flagged, 0.02 * f3.background);
 }
 
+// One LK track a frame reaches one object at most (the carried moving points
+// come first), yet both movers are flagged in the last frame: every
+// depth-backed keypoint gets its own test from the dense flow
+// (DenseFlowResiduals). Without it 2 of the walker's 45 keypoints and none
+// of the late mover's are flagged. (The walker's edges ahead and behind its
+// own 10 px step keep a few unflagged: DIS at half resolution smears its
+// flow there.)
+TEST(DynamicFeatureFilterTwoPhases, DenseFlowFlagsMoversNoTrackReached) {
+  const Sequence s = makeSequence();
+  DynamicFilterParams params = flowOnly();
+  params.max_flow_points = 1;
+  DynamicFeatureFilter filter(params, test::sceneCamera());
+  std::vector<Phases> ph;
+  for (std::size_t k = 0; k < s.frames.size(); ++k) ph.push_back(step(filter, s, k, posed(k)));
+  const Shares f3 = score(s.keypoints[3], ph[3].judged, 3);
+  ASSERT_GT(f3.in_walker, 20);
+  ASSERT_GT(f3.in_late, 30);
+  ASSERT_GT(f3.background, 200);
+  EXPECT_GT(f3.walker_flagged, 0.7 * f3.in_walker);
+  EXPECT_GT(f3.late_flagged, 0.9 * f3.in_late);
+  EXPECT_LT(f3.background_flagged, 0.02 * f3.background);
+}
+
 // A loop closure corrects the map between frames 1 and 2: the tracker
 // reports frame 2's pose, and frame 1's, in the corrected map (0.5 m and
 // 20 deg away from where frame 1 was tracked). The judgement must use the

@@ -1,0 +1,30 @@
+#pragma once
+// Which keypoints lie nearest to a track that was seen moving.
+//
+// Why: the judgement flags a mover's keypoints through regions grown from
+// its moving LK tracks, and those regions end at the person's outline, where
+// the keypoints mix person and background: most of the walker keypoints the
+// flags miss lie within 10 px of the outline (docs/benchmarks.md,
+// 2026-12-06). A keypoint whose nearest judged track moved makes no map
+// point (it may still be matched for tracking). One with no judged track
+// near it is left alone: where a mover fills the view its carried points
+// can take every track, and the static rest must still make the map.
+#include <opencv2/core.hpp>
+
+#include <cstdint>
+#include <vector>
+
+namespace dynslam {
+
+/// 1 for each keypoint whose nearest judged track (points[i] where
+/// tracked[i]; ties to the lower index) closer than `radius` (px) was
+/// judged moving (moving[i]); 0 where that track was judged static or no
+/// judged track is that near. `size`: the image, to bucket the tracks
+/// (points outside it count at its border).
+std::vector<uint8_t> keypointsNearestToMovingTracks(const std::vector<cv::KeyPoint>& keys,
+                                                    const std::vector<cv::Point2f>& points,
+                                                    const std::vector<uint8_t>& tracked,
+                                                    const std::vector<uint8_t>& moving,
+                                                    cv::Size size, double radius);
+
+}  // namespace dynslam
