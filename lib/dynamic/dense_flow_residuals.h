@@ -5,11 +5,11 @@
 // tracks and grows their verdicts into depth regions; on a person close to
 // the camera that mask misses whole body parts (an arm, a leg at another
 // depth), so about one walker keypoint in twelve stayed unflagged. A dense
-// flow field (OpenCV's DIS, at half resolution: about 5 ms of one core a
-// frame) tells where every keypoint of this frame came from in the last one,
-// so each depth-backed keypoint gets the same reprojection test as a track:
-// its point moved back by the tracker's camera motion must land where the
-// flow says it was.
+// flow field (OpenCV's DIS at half resolution; 5-15 ms of CPU a frame over
+// a whole run, docs/benchmarks.md) tells where every keypoint of this frame
+// came from in the last one, so each depth-backed keypoint gets the same
+// reprojection test as a track: its point moved back by the tracker's
+// camera motion must land where the flow says it was.
 //
 // Why DIS's medium preset at half resolution: the ultrafast preset's flow
 // is coarser, and its errors on the static scene flagged more of it than

@@ -38,8 +38,8 @@
 //
 // Cost: LK runs on at most max_flow_points keypoints of the previous frame
 // (keypoints carried as dynamic first), at half resolution by default; the
-// box carrying reuses those tracks. The dense flow adds about 5 ms of one
-// core a frame. Per-stage times: stageTimes(), logged at
+// box carrying reuses those tracks. The dense flow adds 5-15 ms of CPU a
+// frame. Per-stage times: stageTimes(), logged at
 // exit at level debug (core/log.h), one line per frame at level trace.
 // DYNSLAM_DEBUG_DYNAMIC_DIR=DIR writes each frame's mask parts to
 // DIR/<frame>.png (blue: boxes, green: grown regions, red: all before the
