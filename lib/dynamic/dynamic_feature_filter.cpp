@@ -555,8 +555,8 @@ std::size_t DynamicFeatureFilter::flagOnDenseFlow(const MotionResult& judged,
   CameraMotion motion;
   motion.R = g.R;
   motion.t = g.t;
-  const float threshold = kDenseThresholdScale *
-                          std::max(g.reprojection_threshold, p_.motion.reprojection_threshold_px);
+  // (The judgement's threshold is already at least the configured one.)
+  const float threshold = kDenseThresholdScale * g.reprojection_threshold;
   const std::vector<float> e =
       dense_flow_.residuals(j.keypoints, j.cur_depth, camera_, motion, p_.motion.depth_edge_ratio);
   std::size_t n = 0;

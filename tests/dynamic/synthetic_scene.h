@@ -5,6 +5,8 @@
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include <vector>
+
 #include "core/camera.h"
 
 namespace dynslam::test {
@@ -29,6 +31,16 @@ inline cv::Mat noiseTexture(cv::RNG& rng, cv::Size size) {
   cv::GaussianBlur(noise, noise, cv::Size(0, 0), 1.5);
   cv::normalize(noise, noise, 0, 255, cv::NORM_MINMAX);
   return noise;
+}
+
+/// The strong corners of a grey image (up to 800, 5 px apart) as keypoints
+/// of size 7: what the scenes' frames are judged on.
+inline std::vector<cv::KeyPoint> cornerKeypoints(const cv::Mat& gray) {
+  std::vector<cv::Point2f> corners;
+  cv::goodFeaturesToTrack(gray, corners, 800, 0.01, 5);
+  std::vector<cv::KeyPoint> keys;
+  for (const auto& c : corners) keys.emplace_back(c, 7.f);
+  return keys;
 }
 
 }  // namespace dynslam::test

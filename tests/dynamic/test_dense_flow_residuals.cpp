@@ -41,14 +41,6 @@ Pair makePair() {
   return p;
 }
 
-std::vector<cv::KeyPoint> corners(const cv::Mat& g) {
-  std::vector<cv::Point2f> c;
-  cv::goodFeaturesToTrack(g, c, 800, 0.01, 5);
-  std::vector<cv::KeyPoint> k;
-  for (const auto& q : c) k.emplace_back(q, 7.f);
-  return k;
-}
-
 CameraMotion slide4cm() {
   CameraMotion m;  // X_cur = X_prev - (0.04, 0, 0): the camera moved +x
   m.t = cv::Vec3d(-0.04, 0, 0);
@@ -69,7 +61,7 @@ TEST(DenseFlowResiduals, WallFitsTheCameraMotionThePatchDoesNot) {
   EXPECT_FALSE(dense.hasFlow());
   dense.addFrame(p.gray[1]);
   ASSERT_TRUE(dense.hasFlow());
-  const auto keys = corners(p.gray[1]);
+  const auto keys = test::cornerKeypoints(p.gray[1]);
   const std::vector<float> e =
       dense.residuals(keys, p.depth[1], test::sceneCamera(), slide4cm(), 0.05f);
   ASSERT_EQ(e.size(), keys.size());

@@ -42,13 +42,9 @@ struct Sequence {
     f.timestamp = k / 30.0;
     cv::cvtColor(g, f.rgb, cv::COLOR_GRAY2BGR);
     f.depth = d;
-    std::vector<cv::Point2f> corners;
-    cv::goodFeaturesToTrack(g, corners, 800, 0.01, 5);
-    std::vector<cv::KeyPoint> kps;
-    for (const auto& c : corners) kps.emplace_back(c, 7.f);
     frames.push_back(f);
     gray.push_back(g);
-    keypoints.push_back(kps);
+    keypoints.push_back(test::cornerKeypoints(g));
   }
 };
 
