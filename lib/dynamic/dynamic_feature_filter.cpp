@@ -10,6 +10,7 @@
 
 #include "core/log.h"
 #include "core/timing.h"
+#include "dynamic/flow_points.h"
 #include "dynamic/track_neighbours.h"
 
 namespace dynslam {
@@ -141,21 +142,10 @@ std::size_t DynamicFeatureFilter::detectorRuns() const { return detector_ ? dete
 void DynamicFeatureFilter::selectFlowPoints(const std::vector<cv::KeyPoint>& keypoints,
                                             const std::vector<cv::Point2f>& carried,
                                             const std::vector<uint8_t>& carried_age) {
-  const std::size_t n = keypoints.size();
-  const std::size_t cap =
-      p_.max_flow_points > 0 ? std::size_t(p_.max_flow_points) : n + carried.size();
-  // Carried dynamic points first: they keep the walker's region alive.
-  prev_points_.assign(carried.begin(), carried.begin() + std::min(cap, carried.size()));
-  prev_age_.assign(carried_age.begin(), carried_age.begin() + prev_points_.size());
-  // Then an even subsample of the keypoints (the extractor already spreads
-  // them over the image, so a stride keeps that spread).
-  const std::size_t budget = cap - prev_points_.size();
-  if (budget == 0 || n == 0) return;
-  const double step = std::max(1.0, double(n) / double(budget));
-  for (double t = 0; std::size_t(t) < n && prev_points_.size() < cap; t += step) {
-    prev_points_.push_back(keypoints[std::size_t(t)].pt);
-    prev_age_.push_back(0);
-  }
+  FlowPoints chosen = dynslam::selectFlowPoints(keypoints, carried, carried_age,
+                                                std::size_t(std::max(0, p_.max_flow_points)));
+  prev_points_ = std::move(chosen.points);
+  prev_age_ = std::move(chosen.age);
 }
 
 cv::Mat DynamicFeatureFilter::prepare(const RGBDFrame& frame, const cv::Mat& gray) {

@@ -78,8 +78,8 @@ struct DynamicFilterParams {
   /// Radius (px) of the disc marked around each point that failed the motion
   /// tests (covers points without depth, which region growing cannot).
   int moving_point_radius_px = 3;
-  /// Previous-frame keypoints tracked by LK per frame (0 = all). Keypoints
-  /// carried as dynamic are always among them.
+  /// Previous-frame keypoints tracked by LK per frame (0 = all). Points
+  /// carried as dynamic come first, at most half of them (flow_points.h).
   int max_flow_points = 500;
   /// Points that failed the motion tests are tracked on by LK for this many
   /// frames as dynamic seeds (a walker moving in t is still there in t+1,

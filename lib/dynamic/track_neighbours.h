@@ -8,7 +8,8 @@
 // 2026-12-06). A keypoint whose nearest judged track moved makes no map
 // point (it may still be matched for tracking). One with no judged track
 // near it is left alone: where a mover fills the view its carried points
-// can take every track, and the static rest must still make the map.
+// take half the tracks (flow_points.h), the static rest is tracked sparsely,
+// and it must still make the map.
 #include <opencv2/core.hpp>
 
 #include <cstdint>
