@@ -25,6 +25,17 @@ void carriedInARow(int n, std::vector<cv::Point2f>& pts, std::vector<uint8_t>& a
   }
 }
 
+/// selectFlowPoints of `keys` keypoints and `carried` carried points (both
+/// in a row) under `budget`; the carried points in `carried_out`.
+FlowPoints selectInRows(int keys, int carried, std::size_t budget,
+                        std::vector<cv::Point2f>* carried_out = nullptr) {
+  std::vector<cv::Point2f> pts;
+  std::vector<uint8_t> age;
+  carriedInARow(carried, pts, age);
+  if (carried_out) *carried_out = pts;
+  return selectFlowPoints(keysInARow(keys), pts, age, budget);
+}
+
 std::size_t carriedCount(const FlowPoints& f) {
   std::size_t n = 0;
   for (uint8_t a : f.age) n += a > 0 ? 1 : 0;
@@ -35,10 +46,7 @@ std::size_t carriedCount(const FlowPoints& f) {
 
 TEST(FlowPoints, CarriedPointsTakeAtMostHalfTheBudgetEvenlySpread) {
   // A mover fills the view: 600 carried points against a budget of 500.
-  std::vector<cv::Point2f> carried;
-  std::vector<uint8_t> age;
-  carriedInARow(600, carried, age);
-  const FlowPoints f = selectFlowPoints(keysInARow(1000), carried, age, 500);
+  const FlowPoints f = selectInRows(1000, 600, 500);
   ASSERT_EQ(f.points.size(), 500u);
   ASSERT_EQ(f.age.size(), 500u);
   // Half for the carried points, the other half for the static scene.
@@ -59,9 +67,7 @@ TEST(FlowPoints, CarriedPointsTakeAtMostHalfTheBudgetEvenlySpread) {
 
 TEST(FlowPoints, FewCarriedPointsAreAllKeptAndTheKeypointsFillTheRest) {
   std::vector<cv::Point2f> carried;
-  std::vector<uint8_t> age;
-  carriedInARow(100, carried, age);
-  const FlowPoints f = selectFlowPoints(keysInARow(800), carried, age, 500);
+  const FlowPoints f = selectInRows(800, 100, 500, &carried);
   ASSERT_EQ(f.points.size(), 500u);
   EXPECT_EQ(carriedCount(f), 100u);
   for (std::size_t i = 0; i < 100; ++i) EXPECT_EQ(f.points[i], carried[i]);
@@ -71,19 +77,13 @@ TEST(FlowPoints, FewCarriedPointsAreAllKeptAndTheKeypointsFillTheRest) {
 }
 
 TEST(FlowPoints, UnderTheBudgetEveryPointIsFollowed) {
-  std::vector<cv::Point2f> carried;
-  std::vector<uint8_t> age;
-  carriedInARow(30, carried, age);
-  const FlowPoints f = selectFlowPoints(keysInARow(200), carried, age, 500);
+  const FlowPoints f = selectInRows(200, 30, 500);
   EXPECT_EQ(f.points.size(), 230u);
   EXPECT_EQ(carriedCount(f), 30u);
 }
 
 TEST(FlowPoints, NoBudgetMeansEveryPointEvenWhenCarriedOnesAreMany) {
-  std::vector<cv::Point2f> carried;
-  std::vector<uint8_t> age;
-  carriedInARow(900, carried, age);
-  const FlowPoints f = selectFlowPoints(keysInARow(1000), carried, age, 0);
+  const FlowPoints f = selectInRows(1000, 900, 0);
   EXPECT_EQ(f.points.size(), 1900u);
   EXPECT_EQ(carriedCount(f), 900u);
 }
