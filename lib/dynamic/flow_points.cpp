@@ -4,8 +4,8 @@
 
 namespace dynslam {
 namespace {
-/// Appends an even stride over `n` items (at most `count` of them) to `out`
-/// through `take(i)`.
+/// Calls take(i) for an even stride over the indices 0..n-1, at most
+/// `count` of them (every index when count >= n).
 template <typename Take>
 void takeStride(std::size_t n, std::size_t count, Take take) {
   if (count == 0 || n == 0) return;

@@ -5,13 +5,13 @@
 // they keep a mover's region alive from frame to frame, even where its
 // residuals dip under the threshold. But where a mover fills the view they
 // took almost every track (488-495 of 500 on the half-covered test scene),
-// and the static scene was then judged without tracks of its own: the rule
-// that holds back keypoints beside moving tracks found only moving ones
-// near, and the judgement's camera-motion check had few static points. An
-// even subsample of the carried points still seeds the mover's region; the
-// other half follows the static scene (docs/benchmarks.md, 2026-12-06,
-// seventeenth stop: rpy_close's ATE over ten budgets 0.0236 against 0.0255
-// m, the other scenes as good or better).
+// and the static scene was then judged without tracks of its own (by the
+// dense flow alone), while the rule that holds back keypoints beside moving
+// tracks found only moving ones near. An even subsample of the carried
+// points still seeds the mover's region; the other half follows the static
+// scene (docs/benchmarks.md, 2026-12-06, seventeenth stop: rpy_close's ATE
+// over ten budgets 0.0236 against 0.0255 m, the other scenes' medians as
+// good or better).
 #include <opencv2/core.hpp>
 
 #include <cstddef>
