@@ -1,10 +1,10 @@
 #!/usr/bin/env bash
 # Regenerates docs/benchmarks.md and docs/images/bench/ from scratch:
 #   1. Release build of `dynslam` and the micro-benchmarks (apps/bench/);
-#   2. the rpy_walkers, rpy_close and rpy_panel composite sequences, built
+#   2. the rpy_walkers, rpy_close, rpy_panel and rpy_sitting composite sequences, built
 #      once into the cache folder;
 #   3. `dynslam bench --runs 5 --spread` on fr1_rpy (off, detect+flow),
-#      rpy_walkers (all four modes), rpy_close and rpy_panel (off,
+#      rpy_walkers (all four modes), rpy_close, rpy_panel and rpy_sitting (off,
 #      detect+flow) and the two derived fr1_rpy sequences (off), with plots:
 #      runs repeat byte for byte, so the five runs of a cell use keypoint
 #      budgets 0.93 ... 1.07 of the config's (a median over inputs, not one
@@ -86,8 +86,10 @@ composite() {  # SCENARIO -> the composite folder, built once
 composite rpy_walkers
 composite rpy_close
 composite rpy_panel
+composite rpy_sitting
 CLOSE="$CACHE/rgbd_dataset_freiburg1_rpy_close"
 PANEL="$CACHE/rgbd_dataset_freiburg1_rpy_panel"
+SITTING="$CACHE/rgbd_dataset_freiburg1_rpy_sitting"
 
 # Issue 7 scenarios, made from fr1_rpy's lists (images linked, not copied):
 # a 40-frame blackout in the middle (frames 330..369 removed), and the whole
@@ -139,6 +141,7 @@ run_bench fr1_rpy "$RPY" off,detect+flow "$STATIC_RUNS"
 run_bench rpy_walkers "$WALKERS" off,detect,flow,detect+flow
 run_bench rpy_close "$CLOSE" off,detect+flow
 run_bench rpy_panel "$PANEL" off,detect+flow
+run_bench rpy_sitting "$SITTING" off,detect+flow
 run_bench fr1_rpy_gap40 "$GAP" off
 run_bench fr1_rpy_twice "$TWICE" off
 
@@ -211,7 +214,7 @@ rm -rf "$IMAGES"
 mkdir -p "$IMAGES"
 REPORTS_MD="$OUT/reports.md"
 : >"$REPORTS_MD"
-for bench in fr1_rpy rpy_walkers rpy_close rpy_panel fr1_rpy_gap40 fr1_rpy_twice; do
+for bench in fr1_rpy rpy_walkers rpy_close rpy_panel rpy_sitting fr1_rpy_gap40 fr1_rpy_twice; do
   (cd "$OUT/$bench" && find . -mindepth 3 -maxdepth 3 -name '*.png' -print0 | xargs -0 -I{} cp --parents {} "$IMAGES/")
   # Titles one level down, image links into docs/images/bench, paths relative.
   # From the first sequence heading on (the page explains the columns once).
@@ -230,7 +233,7 @@ MACHINE_MD="$OUT/machine.md"
     "$(lscpu | sed -n 's/^Model name: *//p' | head -1)" "$(nproc)"
   printf -- '- Memory: %s total (`free -h`)\n' "$(free -h | awk '/^Mem:/ {print $2}')"
   printf -- '- OS: %s, kernel %s\n' "$(. /etc/os-release && echo "$PRETTY_NAME")" "$(uname -r)"
-  printf -- '- Compiler: %s; Release build (`-O2`)\n' "$(c++ --version | head -1)"
+  printf -- '- Compiler: %s; Release build (`-O2 -mpopcnt`)\n' "$(c++ --version | head -1)"
   printf -- '- Libraries: OpenCV %s, MRPT %s, Eigen %s, PCL %s\n' \
     "$(pkg-config --modversion opencv4 2>/dev/null || echo '?')" \
     "$(dpkg-query -W -f '${Version}' libmrpt-dev 2>/dev/null | cut -d- -f1 || echo '?')" \

@@ -3,6 +3,7 @@
 // min-max over runs, the paper's improvement over `off`, and every run's own
 // numbers (the JSON repeats `dynslam eval --json`'s members verbatim).
 // Markdown for people and docs/benchmarks.md, JSON for tools.
+#include <array>
 #include <map>
 #include <string>
 #include <utility>
@@ -20,6 +21,8 @@ struct ModeSummary {
   Spread ate_rmse, ate_sd, rpe_trans_rmse, rpe_trans_sd, rpe_rot_rmse, rpe_rot_sd, coverage;
   // Speed and memory.
   Spread frame_mean_ms, frame_median_ms, frame_p95_ms, track_median_ms, fps, peak_rss_mb;
+  Spread cpu_ms_per_frame;  ///< CPU time (user + sys, all threads) per frame
+  std::array<Spread, kCpuThreads.size()> cpu_by_thread;  ///< its split (kCpuThreads)
   // Dynamic-feature scores against true masks (NaN without masks).
   Spread recall, false_rejection, false_rejection_outside_boxes, standing_rejection;
   // Map size and place recognition.

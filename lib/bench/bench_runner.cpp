@@ -80,6 +80,10 @@ RunRecord readRunRecord(const BenchPlan& plan, const PlannedRun& run) {
   r.wall_s = jsonNumberAt(report, "wall_time_s");
   r.peak_rss_mb = jsonNumberAt(report, "peak_rss_mb");
   r.fps = jsonNumberAt(report, "fps");
+  r.cpu_ms_per_frame = jsonNumberAt(report, "cpu_ms_per_frame");
+  for (std::size_t t = 0; t < kCpuThreads.size(); ++t)
+    r.cpu_by_thread[t] =
+        jsonNumberAt(report, std::string("cpu_ms_per_frame_by_thread.") + kCpuThreads[t]);
   r.recall = jsonNumberAt(report, "mask_scores.recall");
   r.false_rejection = jsonNumberAt(report, "mask_scores.false_rejection_rate");
   r.false_rejection_outside_boxes =

@@ -8,6 +8,7 @@
 // run folder, so runs made elsewhere (--emit-jobs) give the same report.
 #include <functional>
 #include <optional>
+#include <array>
 #include <string>
 #include <vector>
 
@@ -16,6 +17,11 @@
 #include "eval/trajectory_eval.h"
 
 namespace dynslam {
+
+/// The threads a run report splits its CPU time per frame into
+/// (report.json "cpu_ms_per_frame_by_thread"), in the tables' order.
+inline constexpr std::array<const char*, 6> kCpuThreads = {"tracking", "mapping",  "detector",
+                                                           "reader",   "final_ba", "other"};
 
 struct RunRecord {
   std::string sequence;  ///< name (see sequenceNames)
@@ -27,6 +33,9 @@ struct RunRecord {
   double wall_s = 0;       ///< report.json "wall_time_s" (the frame loop)
   double peak_rss_mb = 0;  ///< report.json "peak_rss_mb" (the run process)
   double fps = 0;          ///< report.json "fps" (frames / tracking-loop time)
+  double cpu_ms_per_frame = 0;  ///< report.json "cpu_ms_per_frame" (process user + sys / frames)
+  /// report.json "cpu_ms_per_frame_by_thread", in the order of kCpuThreads.
+  std::array<double, kCpuThreads.size()> cpu_by_thread{};
   /// report.json mask_scores (NaN when the sequence has no true masks):
   /// walker recall, static false rejections (all, and outside person boxes
   /// that hold no true mask), standing-still people flagged.

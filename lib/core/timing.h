@@ -26,5 +26,7 @@ double peakRssMb();
 double processCpuSeconds();
 /// The same in milliseconds (the micro-benchmarks' unit).
 inline double processCpuMs() { return 1e3 * processCpuSeconds(); }
+/// User + system CPU time (ms) of the calling thread so far.
+double currentThreadCpuMs();
 
 }  // namespace dynslam

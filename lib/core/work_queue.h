@@ -17,9 +17,9 @@
 #include <deque>
 #include <functional>
 #include <mutex>
-#include <thread>
 #include <utility>
 
+#include "core/cpu_timed_thread.h"
 #include "core/worker_error.h"
 
 namespace dynslam {
@@ -37,7 +37,7 @@ class WorkQueue {
   /// Starts the worker (threaded only). Call once the handler's owner is
   /// fully constructed.
   void start() {
-    if (threaded_ && !thread_.joinable()) thread_ = std::thread([this] { run(); });
+    if (threaded_ && !thread_.joinable()) thread_.start([this] { run(); });
   }
 
   void push(T item) {
@@ -78,6 +78,9 @@ class WorkQueue {
     error_.rethrowIfFailed();
   }
 
+  /// CPU time (ms) the worker thread has used (0 without a thread).
+  double workerCpuMs() { return thread_.cpuMs(); }
+
   /// Rethrows the handler's exception, if one was thrown (owner's thread).
   void rethrowIfFailed() const { error_.rethrowIfFailed(); }
 
@@ -88,7 +91,7 @@ class WorkQueue {
       stop_ = true;
     }
     cv_.notify_all();
-    if (thread_.joinable()) thread_.join();
+    thread_.join();
   }
 
  private:
@@ -121,7 +124,7 @@ class WorkQueue {
   std::deque<T> queue_;
   bool busy_ = false;
   bool stop_ = false;
-  std::thread thread_;
+  CpuTimedThread thread_;
 };
 
 }  // namespace dynslam

@@ -7,7 +7,7 @@ namespace dynslam {
 
 DetectorThread::DetectorThread(const YoloDetectorParams& params, int interval)
     : detector_(params), interval_(std::max(1, interval)) {
-  thread_ = std::thread([this] { loop(); });
+  thread_.start([this] { loop(); });
 }
 
 DetectorThread::~DetectorThread() {
@@ -16,7 +16,7 @@ DetectorThread::~DetectorThread() {
     stop_ = true;
   }
   cv_.notify_all();
-  if (thread_.joinable()) thread_.join();
+  thread_.join();
 }
 
 std::size_t DetectorThread::runs() const {

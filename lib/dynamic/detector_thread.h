@@ -14,11 +14,11 @@
 #include <deque>
 #include <mutex>
 #include <optional>
-#include <thread>
 #include <vector>
 
 #include <opencv2/core.hpp>
 
+#include "core/cpu_timed_thread.h"
 #include "core/worker_error.h"
 #include "dynamic/yolo_detector.h"
 
@@ -44,6 +44,8 @@ class DetectorThread {
   bool takeDue(long now, std::vector<Detection>& boxes, long& frame);
   /// Detections run so far.
   std::size_t runs() const;
+  /// CPU time (ms) of the detector thread so far.
+  double cpuMs() { return thread_.cpuMs(); }
 
  private:
   struct Job {
@@ -65,7 +67,7 @@ class DetectorThread {
   bool stop_ = false;
   bool failed_ = false;
   WorkerError error_;  ///< a failed detect(), rethrown at the owner's next call
-  std::thread thread_;
+  CpuTimedThread thread_;
 };
 
 }  // namespace dynslam

@@ -7,6 +7,8 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <stdexcept>
+#include <string>
 
 #include "core/log.h"
 #include "core/timing.h"
@@ -139,6 +141,8 @@ DynamicFeatureFilter::~DynamicFeatureFilter() {
 
 std::size_t DynamicFeatureFilter::detectorRuns() const { return detector_ ? detector_->runs() : 0; }
 
+double DynamicFeatureFilter::detectorCpuMs() { return detector_ ? detector_->cpuMs() : 0.0; }
+
 void DynamicFeatureFilter::selectFlowPoints(const std::vector<cv::KeyPoint>& keypoints,
                                             const std::vector<cv::Point2f>& carried,
                                             const std::vector<uint8_t>& carried_age) {
@@ -150,7 +154,14 @@ void DynamicFeatureFilter::selectFlowPoints(const std::vector<cv::KeyPoint>& key
 
 cv::Mat DynamicFeatureFilter::prepare(const RGBDFrame& frame, const cv::Mat& gray) {
   const auto t_all = SteadyClock::now();
-  ++frame_;
+  // The frame is known by its index in the input, so that frames dropped
+  // before SLAM (--realtime) leave gaps, not a count that no longer matches
+  // the index frameTracked() is given.
+  if (long(frame.index) <= frame_)
+    throw std::logic_error("DynamicFeatureFilter::prepare: frame " + std::to_string(frame.index) +
+                           " after frame " + std::to_string(frame_) +
+                           ": frames must come in increasing order");
+  frame_ = long(frame.index);
   prepared_frame_ = frame_;
   mask_ = cv::Mat::zeros(gray.size(), CV_8UC1);
   unjudged_.clear();
@@ -471,7 +482,10 @@ std::size_t DynamicFeatureFilter::holdBackMovedSpace(const cv::Matx44d& pose_wc,
       unjudged_[k] = 1;
       ++held;
     }
-  if (frame_ % 100 == 0) moved_space_.forgetBefore(frame_);
+  if (frame_ / kForgetPeriodFrames != forgotten_period_) {
+    forgotten_period_ = frame_ / kForgetPeriodFrames;
+    moved_space_.forgetBefore(frame_);
+  }
   return held;
 }
 

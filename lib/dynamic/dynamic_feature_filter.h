@@ -142,6 +142,8 @@ class DynamicFeatureFilter : public ObservationPreprocessor {
   /// Detector boxes (carried to the frame) used for the last processed frame.
   const std::vector<Detection>& lastBoxes() const { return boxes_now_; }
   std::size_t detectorRuns() const;
+  /// CPU time (ms) of the detector's thread so far (0 without a detector).
+  double detectorCpuMs();
   /// Frames judged under the tracker's motion (frameTracked).
   std::size_t judgedFrames() const { return judged_frames_; }
   /// Judgements not used (max_map_inliers_flagged).
@@ -225,7 +227,11 @@ class DynamicFeatureFilter : public ObservationPreprocessor {
   std::vector<uint8_t> prev_age_;
   bool have_prev_ = false;
   cv::Mat prev_motion_mask_;  // motion regions of the previous frame's last judgement
-  long frame_ = -1;
+  long frame_ = -1;  // index of the frame prepare() last saw (frames may skip indices)
+  // The moved-space memory drops its stale cells once per this many frames
+  // (only to keep it small: no verdict depends on when).
+  static constexpr long kForgetPeriodFrames = 100;
+  long forgotten_period_ = -1;
   cv::Mat mask_;
   std::vector<Detection> boxes_now_;
   std::map<std::string, std::vector<double>> times_;

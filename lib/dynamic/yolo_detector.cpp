@@ -233,7 +233,6 @@ YoloDetector::YoloDetector(const YoloDetectorParams& params) : params_(params) {
   if (net_.empty()) throw InputError(model, "cannot load ONNX model");
   net_.setPreferableBackend(cv::dnn::DNN_BACKEND_OPENCV);
   net_.setPreferableTarget(cv::dnn::DNN_TARGET_CPU);
-  if (params_.num_threads > 0) cv::setNumThreads(params_.num_threads);
 
   const std::string names_path = params_.class_names_path.empty()
                                      ? (fs::path(model).parent_path() / "coco.names").string()

@@ -57,9 +57,6 @@ struct YoloDetectorParams {
   std::vector<std::string> dynamic_classes{"person"};
   /// Return only detections of dynamic classes (what the SLAM filter needs).
   bool only_dynamic = false;
-  /// > 0: cv::setNumThreads(n) at construction. Note this is process-wide in
-  /// OpenCV (it also affects LK, resize, ...). 0 = leave OpenCV's setting.
-  int num_threads = 0;
 };
 
 class YoloDetector {

@@ -133,9 +133,10 @@ void LocalMapper::mapKeyFrame(KeyFrame* kf) {
     if (logEnabled(LogLevel::kDebug)) {
       std::size_t out = 0;
       for (bool b : res.inlier) out += !b;
-      logf(LogLevel::kDebug, "map", "kf %ld BA: %zu kfs, %zu points, %zu obs, %zu outliers", kf->id,
-           problem->problem().keyframes.size(), problem->points().size(),
-           problem->problem().observations.size(), out);
+      logf(LogLevel::kDebug, "map", "kf %ld BA: %zu kfs, %zu points, %zu obs, %zu outliers, %d iterations%s",
+           kf->id, problem->problem().keyframes.size(), problem->points().size(),
+           problem->problem().observations.size(), out, res.iterations,
+           res.converged ? ", converged" : "");
     }
     std::lock_guard<std::mutex> lk(stats_mutex_);
     stats_.ba_runs++;

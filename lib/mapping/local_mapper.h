@@ -96,6 +96,8 @@ class LocalMapper : public KeyFrameSink {
     std::vector<double> ba_ms, step_ms;
   };
   Stats stats() const;
+  /// CPU time (ms) of the mapping thread so far (0 when synchronous).
+  double threadCpuMs() { return queue_.workerCpuMs(); }
 
  private:
   /// The queue's handler: mapKeyFrame, and a failure made visible to a

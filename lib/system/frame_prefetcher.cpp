@@ -16,7 +16,7 @@ std::pair<RGBDFrame, double> timedLoad(const FrameSource& s, std::size_t i) {
 
 FramePrefetcher::FramePrefetcher(const FrameSource& source, std::size_t count, std::size_t depth)
     : source_(source), count_(count), depth_(depth) {
-  if (depth_ > 0) thread_ = std::thread([this] { run(); });
+  if (depth_ > 0) thread_.start([this] { run(); });
 }
 
 FramePrefetcher::~FramePrefetcher() {
@@ -25,7 +25,7 @@ FramePrefetcher::~FramePrefetcher() {
     stop_ = true;
   }
   cv_.notify_all();
-  if (thread_.joinable()) thread_.join();
+  thread_.join();
 }
 
 void FramePrefetcher::run() {

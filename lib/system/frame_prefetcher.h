@@ -5,8 +5,8 @@
 #include <condition_variable>
 #include <deque>
 #include <mutex>
-#include <thread>
 
+#include "core/cpu_timed_thread.h"
 #include "core/rgbd_frame.h"
 #include "core/worker_error.h"
 
@@ -22,6 +22,9 @@ class FramePrefetcher {
   /// Next frame in order; rethrows a loading error (e.g. InputError).
   /// `load_ms` receives the time spent decoding it.
   RGBDFrame next(double* load_ms = nullptr);
+  /// CPU time (ms) of the reader thread so far (0 with depth 0: decoding
+  /// then counts in the caller's thread).
+  double readerCpuMs() { return thread_.cpuMs(); }
 
  private:
   void run();
@@ -32,7 +35,7 @@ class FramePrefetcher {
   bool stop_ = false;
   std::mutex m_;
   std::condition_variable cv_;
-  std::thread thread_;
+  CpuTimedThread thread_;
 };
 
 }  // namespace dynslam

@@ -93,6 +93,8 @@ RunSummary runSlam(const RunOptions& opt) {
   std::optional<SensorRatePacer> pacer;
   if (opt.realtime) pacer.emplace();
   const auto t0 = SteadyClock::now();
+  const double cpu0_ms = processCpuMs();
+  const double tracking0_ms = currentThreadCpuMs();
   int interrupted_by = 0;
   std::size_t processed = 0;  // frames given to SLAM (all but those --realtime dropped)
   for (std::size_t i = 0; i < n; ++i) {
@@ -137,11 +139,19 @@ RunSummary runSlam(const RunOptions& opt) {
     }
     progress.update(i + 1, "kf " + std::to_string(slam.map().keyFrameCount()));
   }
+  const double tracking1_ms = currentThreadCpuMs();
   slam.finish();
   const double wall = secondsSince(t0);
   progress.finish();
 
   RunSummary sum;
+  sum.processed = processed;
+  sum.cpu.total_ms = processCpuMs() - cpu0_ms;
+  sum.cpu.tracking_ms = tracking1_ms - tracking0_ms;
+  sum.cpu.final_ba_ms = currentThreadCpuMs() - tracking1_ms;
+  sum.cpu.reader_ms = frames.readerCpuMs();
+  sum.cpu.mapping_ms = slam.mappingCpuMs();
+  if (filter) sum.cpu.detector_ms = filter->detectorCpuMs();
   sum.frames = n;
   sum.tracked = record.tracked();
   sum.keyframes = slam.map().keyFrameCount();

@@ -46,9 +46,29 @@ struct RunOptions {
   bool realtime = false;
 };
 
+/// CPU time (user + system, ms) a run spent from its first frame to the end
+/// of SlamSystem::finish(), split by thread: the figure that holds on a
+/// shared machine, where wall time mostly measures the other jobs.
+struct RunCpu {
+  double total_ms = 0;     ///< the whole process
+  double tracking_ms = 0;  ///< the frame loop's thread (extraction, dynamic filter, tracking)
+  double final_ba_ms = 0;  ///< the same thread in finish() (end-of-run global BA)
+  double reader_ms = 0;    ///< frame decoding (FramePrefetcher)
+  double mapping_ms = 0;   ///< local mapping, loop closing (LocalMapper's thread)
+  double detector_ms = 0;  ///< the YOLO detector (DetectorThread)
+  /// The rest: OpenCV's worker threads (parallel_for inside the stages above).
+  double otherMs() const {
+    return total_ms - tracking_ms - final_ba_ms - reader_ms - mapping_ms - detector_ms;
+  }
+};
+
 struct RunSummary {
   std::size_t frames = 0, tracked = 0, keyframes = 0, map_points = 0;
+  std::size_t processed = 0;  ///< frames given to SLAM (frames - dropped)
   double wall_s = 0, fps = 0;
+  RunCpu cpu;
+  /// cpu.total_ms over the frames given to SLAM.
+  double cpuMsPerFrame() const { return processed ? cpu.total_ms / double(processed) : 0.0; }
   std::size_t dropped = 0;  ///< frames --realtime dropped (no pose, not processed)
   /// The signal that stopped the run early (0: it ran to the end); the
   /// outputs then hold the frames processed until then.

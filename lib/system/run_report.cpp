@@ -58,9 +58,23 @@ std::string runReportJson(const RunReportInputs& in) {
       .value("map_points", in.summary.map_points)
       .value("wall_time_s", in.summary.wall_s)
       .value("fps", in.summary.fps)
+      .value("cpu_ms_per_frame", in.summary.cpuMsPerFrame())
       .value("realtime", in.options.realtime)
       .value("dropped_frames", in.summary.dropped)
       .value("peak_rss_mb", peakRssMb());
+  {
+    // Per thread, over the frames given to SLAM (cpu_ms_per_frame is their sum).
+    const RunCpu& c = in.summary.cpu;
+    const double n = in.summary.processed ? double(in.summary.processed) : 1.0;
+    w.beginObject("cpu_ms_per_frame_by_thread")
+        .value("tracking", c.tracking_ms / n)
+        .value("reader", c.reader_ms / n)
+        .value("mapping", c.mapping_ms / n)
+        .value("detector", c.detector_ms / n)
+        .value("final_ba", c.final_ba_ms / n)
+        .value("other", c.otherMs() / n)  // OpenCV's worker threads
+        .endObject();
+  }
   w.beginObject("depends_on")
       .value("config_crc", id.config)
       .value("build_crc", id.build)

@@ -63,6 +63,8 @@ class SlamSystem {
   Map& map() { return map_; }
   const StageTimes& times() const { return times_; }
   LocalMapper::Stats mapperStats() const { return mapper_->stats(); }
+  /// CPU time (ms) of the local mapping thread so far.
+  double mappingCpuMs() { return mapper_->threadCpuMs(); }
   /// Empty stats when loop closing is disabled.
   loop::LoopClosingStats loopStats() const {
     return loop_ ? loop_->stats() : loop::LoopClosingStats{};

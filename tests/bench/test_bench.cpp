@@ -199,7 +199,10 @@ std::string writeFakeDynslam(const TempDir& dir, const std::string& trajectory) 
                   "cp '" +
                       trajectory +
                       "' \"$out/trajectory.txt\"\n"
-                      "printf '{\\n  \"fps\": 12.5,\\n  \"peak_rss_mb\": 1,\\n  \"keyframes\": "
+                      "printf '{\\n  \"fps\": 12.5,\\n  \"cpu_ms_per_frame\": 40.5,\\n  "
+                      "\"cpu_ms_per_frame_by_thread\": {\\n    \"tracking\": 20, \"reader\": 4, "
+                      "\"mapping\": 10, \"detector\": 5, \"final_ba\": 0.5, \"other\": 1\\n  },\\n  "
+                      "\"peak_rss_mb\": 1,\\n  \"keyframes\": "
                       "7,\\n  \"map_points\": 321,\\n  "
                       "\"relocalisation_count\": 2,\\n  \"loop_closing\": {\\n    "
                       "\"loops_closed\": 1\\n  },\\n  \"mask_scores\": {\\n    "
@@ -242,6 +245,7 @@ TEST(BenchRunner, NumbersAreThoseOfDynslamEval) {
   ASSERT_TRUE(ok.ok) << ok.error;
   EXPECT_EQ(ok.dir, o.out_dir + "/rgbd_dataset_freiburg1_rpy/off/run1");
   EXPECT_DOUBLE_EQ(ok.fps, 12.5);
+  EXPECT_DOUBLE_EQ(ok.cpu_ms_per_frame, 40.5);
   EXPECT_DOUBLE_EQ(ok.recall, 0.9);
   EXPECT_DOUBLE_EQ(ok.false_rejection, 0.08);
   EXPECT_DOUBLE_EQ(ok.false_rejection_outside_boxes, 0.05);
@@ -258,6 +262,14 @@ TEST(BenchRunner, NumbersAreThoseOfDynslamEval) {
   const std::string md = BenchReport(res).markdown();
   EXPECT_NE(md.find("| off | 90.0 | 8.0 | 5.0 | 50.0 |"), std::string::npos) << md;
   EXPECT_NE(md.find("| off | 7 | 321 | 2 | 1 |"), std::string::npos) << md;
+  // CPU per frame beside fps, and its split in the order of kCpuThreads.
+  EXPECT_NE(md.find("| 12.5 | 40.5 | 1 |"), std::string::npos) << md;
+  EXPECT_NE(md.find("| mode | CPU per frame [ms] | tracking | mapping | detector | reader | "
+                    "final_ba | other |"),
+            std::string::npos)
+      << md;
+  EXPECT_NE(md.find("| off | 40.5 | 20.0 | 10.0 | 5.0 | 4.0 | 0.5 | 1.0 |"), std::string::npos)
+      << md;
 
   const std::string report = BenchReport(res).json();
   const test::CommandResult eval =

@@ -639,3 +639,42 @@ TEST(DynamicFeatureFilterTwoPhases, ABoxTheDetectorNoLongerConfirmsFlagsNothingA
                          << " wall keypoints in the stale box flagged after tracking";
   }
 }
+
+// Frames dropped before SLAM (--realtime, a live camera) leave gaps in the
+// indices: every frame given after a drop is still judged, under the motion
+// from the last frame given, and the walker is still found.
+TEST(DynamicFeatureFilterTwoPhases, EveryFrameAfterADroppedFrameIsJudged) {
+  cv::RNG rng(5);
+  const cv::Mat wall = test::noiseTexture(rng, {W + 60, H + 60}),
+                a = test::noiseTexture(rng, {60, 60});
+  const Sequence s = slidingWall(wall, 8, {{a, 1.5, walker}});
+  DynamicFeatureFilter filter(flowOnly(), test::sceneCamera());
+  const std::vector<std::size_t> given = {0, 1, 3, 4, 6, 7};  // 2 and 5 dropped
+  for (std::size_t i = 0; i < given.size(); ++i) {
+    const std::size_t k = given[i];
+    TrackedPose pose;
+    pose.has_pose = true;
+    pose.pose_wc = slidingCamera(k);
+    pose.has_last_pose = i > 0;
+    if (i > 0) pose.last_pose_wc = slidingCamera(given[i - 1]);
+    const Phases p = step(filter, s, k, pose);
+    EXPECT_EQ(p.changed, i > 0) << "frame " << k;
+    if (i == 0) continue;
+    const Shares sh = score(s.keypoints[k], p.judged, int(k));
+    ASSERT_GT(sh.in_walker, 10) << "frame " << k;
+    EXPECT_GT(sh.walker_flagged, 0.8 * sh.in_walker) << "frame " << k;
+    EXPECT_LT(sh.background_flagged, 0.05 * sh.background) << "frame " << k;
+  }
+  EXPECT_EQ(filter.judgedFrames(), given.size() - 1);
+}
+
+// Frames come in increasing index order: a repeated index is a caller's bug.
+TEST(DynamicFeatureFilterTwoPhases, AFrameIndexThatDoesNotIncreaseIsALogicError) {
+  const Sequence s = makeSequence();
+  DynamicFeatureFilter filter(flowOnly(), test::sceneCamera());
+  filter.prepare(s.frames[1], s.gray[1]);
+  std::vector<uint8_t> dyn(s.keypoints[1].size(), 0);
+  filter.process(s.frames[1], s.gray[1], s.keypoints[1], dyn);
+  EXPECT_THROW(filter.prepare(s.frames[1], s.gray[1]), std::logic_error);
+  EXPECT_THROW(filter.prepare(s.frames[0], s.gray[0]), std::logic_error);
+}

@@ -112,6 +112,30 @@ TEST(RunReport, CarriesTheRunsCountsAndIdentity) {
   EXPECT_TRUE(r["loaded_map"].empty());
 }
 
+// CPU per frame over the frames given to SLAM, and its split by thread: the
+// rest (OpenCV's workers) is what the named threads leave of the total.
+TEST(RunReport, SplitsTheCpuTimePerFrameByThread) {
+  ReportParts p;
+  p.summary.frames = 5;
+  p.summary.processed = 4;  // one dropped (--realtime): not given to SLAM
+  p.summary.cpu.total_ms = 400;
+  p.summary.cpu.tracking_ms = 120;
+  p.summary.cpu.final_ba_ms = 8;
+  p.summary.cpu.reader_ms = 40;
+  p.summary.cpu.mapping_ms = 100;
+  p.summary.cpu.detector_ms = 60;
+  cv::FileStorage r = parse(p.json());
+  ASSERT_TRUE(r.isOpened());
+  EXPECT_DOUBLE_EQ(static_cast<double>(r["cpu_ms_per_frame"]), 100.0);
+  const cv::FileNode t = r["cpu_ms_per_frame_by_thread"];
+  EXPECT_DOUBLE_EQ(static_cast<double>(t["tracking"]), 30.0);
+  EXPECT_DOUBLE_EQ(static_cast<double>(t["final_ba"]), 2.0);
+  EXPECT_DOUBLE_EQ(static_cast<double>(t["reader"]), 10.0);
+  EXPECT_DOUBLE_EQ(static_cast<double>(t["mapping"]), 25.0);
+  EXPECT_DOUBLE_EQ(static_cast<double>(t["detector"]), 15.0);
+  EXPECT_DOUBLE_EQ(static_cast<double>(t["other"]), 18.0);
+}
+
 TEST(RunReport, SaysWhenTheRunWasInterrupted) {
   ReportParts p;
   p.summary.interrupted_by = 2;
