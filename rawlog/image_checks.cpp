@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <fstream>
+#include <vector>
 
 #include <zlib.h>
 
@@ -17,6 +18,24 @@ std::string describeImageType(const cv::Mat& image) {
                                  "32-bit int", "32-bit float", "64-bit float", "16-bit float"};
   return std::string(depths[image.depth() & 7]) + " " + std::to_string(image.channels()) +
          "-channel";
+}
+
+void checkGzipStream(const std::string& path) {
+  gzFile gz = gzopen(path.c_str(), "rb");
+  if (gz == nullptr) throw InputError(path, "cannot open");
+  std::vector<unsigned char> scratch(1 << 16);
+  int got = 0;
+  while ((got = gzread(gz, scratch.data(), unsigned(scratch.size()))) > 0) {
+  }
+  // A damaged stream makes gzread fail; one cut short ends it quietly, and
+  // gzerror then says Z_BUF_ERROR (zlib.h, gzread).
+  int err = Z_OK;
+  const std::string message = gzerror(gz, &err);
+  gzclose(gz);
+  if (got < 0 || err != Z_OK)
+    throw InputError(path, "compressed data truncated or damaged (zlib: " +
+                               (message.empty() ? std::string("unexpected end of file") : message) +
+                               ")");
 }
 
 void checkDepthMatrixFile(const std::string& path) {
@@ -53,6 +72,7 @@ void checkDepthMatrixFile(const std::string& path) {
                                " bytes where its header, " + std::to_string(rows) + " x " +
                                std::to_string(cols) + ", asks for " + std::to_string(expected) +
                                ")");
+  if (compressed) checkGzipStream(path);
 }
 
 cv::Mat readRgbImage(const std::string& path, const std::string& what) {

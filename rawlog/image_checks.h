@@ -15,7 +15,14 @@ namespace dynslam {
 /// cols 16-bit values, usually gzip-compressed) is whole and of a sane size.
 /// Called before MRPT reads it: MRPT sizes the matrix from the header without
 /// a check (garbage crashes it) and reads a cut file without a word.
+/// A compressed one is also inflated whole (checkGzipStream).
 void checkDepthMatrixFile(const std::string& path);
+
+/// Throws InputError(path) when `path` is gzip-compressed and its stream
+/// does not inflate whole: cut short, or a deflate or CRC error inside. MRPT
+/// reads such a stream up to the damage without a word (a damaged depth
+/// matrix changed the poses; a cut rawlog read as empty). A plain file passes.
+void checkGzipStream(const std::string& path);
 
 /// An RGB image file as 8-bit BGR (decodeImageFile); throws InputError(path)
 /// if missing (named `what`), cut short, corrupt or undecodable.

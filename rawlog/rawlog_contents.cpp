@@ -18,6 +18,7 @@
 #include "core/atomic_file.h"
 #include "core/errors.h"
 #include "core/mrpt_messages.h"
+#include "rawlog/image_checks.h"
 
 namespace dynslam {
 using mrpt::obs::CObservation3DRangeScan;
@@ -92,6 +93,7 @@ void refuseObjectsThatCrashTheReader(const std::string& path) {
 RawlogContents::RawlogContents(const std::string& rawlog_path) : path_(rawlog_path) {
   // (A pipe would block the reads below.)
   requireRegularFile(rawlog_path, "rawlog file");
+  checkGzipStream(rawlog_path);  // MRPT reads a cut stream as if it ended there
   refuseObjectsThatCrashTheReader(rawlog_path);
   mrpt::io::CFileGZInputStream file;
   if (!file.open(rawlog_path)) throw InputError(rawlog_path, "cannot open rawlog");

@@ -17,8 +17,16 @@ struct TumListEntry {
   std::size_t line = 0;  ///< 1-based line in the list file (for messages)
 };
 
+/// The largest timestamp a TUM list may hold (s): TUM timestamps are seconds
+/// since 1970 (1.3e9 for the 2011 recordings) or since a recording's start;
+/// 1e10 s is the year 2286. Larger ones are typos or damage, and would make
+/// every written pose line as long as the number.
+inline constexpr double kMaxTumTimestamp = 1e10;
+
 /// Reads rgb.txt / depth.txt. Throws InputError(path:line) on malformed lines,
-/// timestamps not strictly increasing, or an empty list.
+/// timestamps negative, not finite, above kMaxTumTimestamp or not strictly
+/// increasing, files outside the folder (absolute or with ".."), or an
+/// empty list.
 std::vector<TumListEntry> readTumList(const std::string& path);
 
 /// Timestamps (RGB) of the associated RGB-D pairs of a TUM folder, as

@@ -27,6 +27,49 @@ const std::string& checkedRawlogPath(const std::string& path) {
     throw InputError(path, "output folder '" + parent.string() + "' does not exist");
   return path;
 }
+
+/// A file `dynslam convert` writes into OUT_Images/ (rawlog_layout.h):
+/// rgb_NNNNNN_* or depth_NNNNNN_*.
+bool isConvertedImageName(const std::string& name) {
+  for (const std::string prefix : {"rgb_", "depth_"}) {
+    if (name.rfind(prefix, 0) != 0 || name.size() < prefix.size() + 7) continue;
+    bool digits = true;
+    for (std::size_t i = prefix.size(); i < prefix.size() + 6; ++i)
+      digits = digits && name[i] >= '0' && name[i] <= '9';
+    if (digits && name[prefix.size() + 6] == '_') return true;
+  }
+  return false;
+}
+
+/// The siblings that commit() replaces must be an earlier conversion's
+/// (the rawlog beside them, the images named as convert names them):
+/// anything else is the user's, and the conversion is refused before it
+/// starts.
+void checkReplaceableSiblings(const std::string& rawlog, const std::string& images,
+                              const std::string& groundtruth) {
+  std::error_code ec;
+  const bool earlier_rawlog = fs::is_regular_file(rawlog, ec);
+  const std::string advice = ": move it away or choose another output name";
+  if (fs::exists(fs::symlink_status(images, ec))) {
+    if (!isDirectory(images) || fs::is_symlink(fs::symlink_status(images, ec)))
+      throw InputError(images, "exists and is not an earlier conversion's images folder; the "
+                               "conversion would replace it" + advice);
+    if (!earlier_rawlog && !fs::is_empty(images, ec))
+      throw InputError(images, "holds files but " + rawlog +
+                                   " does not exist: not an earlier conversion's images, and "
+                                   "the conversion would replace the folder" + advice);
+    for (const auto& entry : fs::directory_iterator(images, ec))
+      if (!entry.is_regular_file(ec) || entry.is_symlink(ec) ||
+          !isConvertedImageName(entry.path().filename().string()))
+        throw InputError(entry.path().string(),
+                         "is not an earlier conversion's image (rgb_NNNNNN_*, depth_NNNNNN_*), "
+                         "and the conversion would replace its folder" + advice);
+  }
+  if (!earlier_rawlog && fs::exists(fs::symlink_status(groundtruth, ec)))
+    throw InputError(groundtruth, "exists but " + rawlog +
+                                      " does not: not an earlier conversion's groundtruth, and "
+                                      "the conversion would overwrite it" + advice);
+}
 }  // namespace
 
 StagedRawlogOutput::StagedRawlogOutput(const std::string& final_rawlog)
@@ -34,6 +77,7 @@ StagedRawlogOutput::StagedRawlogOutput(const std::string& final_rawlog)
       groundtruth_(rawlogGroundtruthPath(final_rawlog)),
       images_(rawlogImagesDir(final_rawlog)),
       tmp_images_(hiddenSibling(images_, "tmp")) {
+  checkReplaceableSiblings(rawlog_.finalPath(), images_, groundtruth_.finalPath());
   std::error_code ec;
   fs::remove_all(tmp_images_, ec);
   makeDirectories(tmp_images_);

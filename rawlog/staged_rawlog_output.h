@@ -13,8 +13,10 @@ namespace dynslam {
 class StagedRawlogOutput {
  public:
   /// Throws InputError(final_rawlog) if the path does not end in ".rawlog",
-  /// is a folder, or its folder does not exist; creates the temporary images
-  /// folder.
+  /// is a folder, or its folder does not exist; InputError naming the
+  /// sibling when OUT_Images/ or OUT_groundtruth.txt holds anything but an
+  /// earlier conversion's output (they would be replaced: the user's files
+  /// are never deleted); creates the temporary images folder.
   explicit StagedRawlogOutput(const std::string& final_rawlog);
   ~StagedRawlogOutput();
   StagedRawlogOutput(const StagedRawlogOutput&) = delete;

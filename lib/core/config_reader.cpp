@@ -129,8 +129,10 @@ bool isEmptyLine(const std::string& line) {
 /// YAML, but MRPT rejects it as an "unexpected empty scalar": it gets an
 /// explicit null, "~". Errors naming the file (and line): NUL bytes (a binary
 /// file), a second document (MRPT reads the first only), a tab in the
-/// indentation, anchors and aliases (MRPT asserts), and flow collections
-/// nested deeper than any config needs ('[' x 30000 overflows its recursion).
+/// indentation, anchors and aliases (MRPT asserts), and collections nested
+/// deeper than any config needs: flow ones ('[' x 30000 overflows its
+/// recursion) and compact block sequences on one line ("- - - ... 1", which
+/// the indentation does not show, crashed it the same way).
 std::string prepareYamlText(const std::string& path, const std::string& text) {
   std::vector<std::string> lines;
   for (std::size_t b = 0; b <= text.size();) {
@@ -157,6 +159,19 @@ std::string prepareYamlText(const std::string& path, const std::string& text) {
     const auto text_begin = line.find_first_not_of(" \t");
     if (line.find('\t') < text_begin && text_begin != std::string::npos)
       throw InputError(path, i + 1, "a tab in the indentation (YAML indents with spaces)");
+    // Compact nested block sequences: "- " after the indentation or after
+    // another "- " opens one more level.
+    int compact = 0;
+    for (std::size_t at = text_begin == std::string::npos ? line.size() : text_begin;
+         at < line.size() && line[at] == '-' &&
+         (at + 1 == line.size() || line[at + 1] == ' ' || line[at + 1] == '\r');
+         at = line.find_first_not_of(' ', at + 1)) {
+      if (++compact > kMaxNesting)
+        throw InputError(path, i + 1,
+                         "block sequences nested more than " + std::to_string(kMaxNesting) +
+                             " levels deep on one line (\"- - - ...\")");
+      if (at + 1 >= line.size()) break;
+    }
     char quote = 0;
     char before = ' ';
     for (char c : line) {

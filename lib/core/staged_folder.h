@@ -4,6 +4,10 @@
 // final folder whole only when complete. A failed or interrupted command
 // thus never leaves new files beside an earlier run's (which `export` would
 // fuse silently), and an earlier run in the folder is replaced, not mixed.
+// Two commands writing the same folder at once would each report success
+// while the later replaced the earlier: the folder is locked while it is
+// staged (an flock on ".NAME.lock" beside it, which the kernel releases
+// when the process ends, so a lock file left by a crash is stale, not held).
 #include <string>
 #include <vector>
 
@@ -20,10 +24,11 @@ void checkOutputFolder(const std::string& dir, const std::vector<std::string>& m
 
 class StagedFolder {
  public:
-  /// Throws InputError(final_dir) as checkOutputFolder. Creates the staging
+  /// Throws InputError(final_dir) as checkOutputFolder, and when another
+  /// process (or StagedFolder) holds the folder's lock. Creates the staging
   /// folder; removes stale ones that killed processes left.
   StagedFolder(std::string final_dir, const std::vector<std::string>& markers);
-  /// Removes the staging folder unless committed.
+  /// Removes the staging folder unless committed; releases the lock.
   ~StagedFolder();
   StagedFolder(const StagedFolder&) = delete;
   StagedFolder& operator=(const StagedFolder&) = delete;
@@ -38,6 +43,8 @@ class StagedFolder {
  private:
   std::string final_;
   std::string staging_;
+  std::string lock_path_;
+  int lock_fd_ = -1;
   bool committed_ = false;
 };
 

@@ -54,6 +54,9 @@ void forEachDataLine(const std::string& path, const std::function<void(const Tex
           path, n,
           "line longer than " + std::to_string(kMaxLine) + " characters: not a text table");
     std::string line(buf.data());
+    // A UTF-8 byte-order mark (editors on Windows write one) is no field:
+    // it was read as part of the first one and reported as a field count.
+    if (n == 1 && line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);
     if (!line.empty() && line.back() == '\r') line.pop_back();
     const auto first = line.find_first_not_of(" \t");
     if (first == std::string::npos || line[first] == '#') continue;

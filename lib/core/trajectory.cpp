@@ -2,6 +2,7 @@
 
 #include <mrpt/math/CQuaternion.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -38,10 +39,16 @@ std::string formatTumLine(const StampedPose& p) {
   p.pose.getAsQuaternion(q);
   // Keep qw >= 0 for a canonical sign (q and -q are the same rotation).
   const double s = q.r() < 0 ? -1.0 : 1.0;
-  char buf[256];
-  std::snprintf(buf, sizeof buf, "%.6f %.7f %.7f %.7f %.7f %.7f %.7f %.7f", p.timestamp, p.pose.x(),
-                p.pose.y(), p.pose.z(), s * q.x(), s * q.y(), s * q.z(), s * q.r());
-  return buf;
+  const auto print = [&](char* buf, std::size_t size) {
+    return std::snprintf(buf, size, "%.6f %.7f %.7f %.7f %.7f %.7f %.7f %.7f", p.timestamp,
+                         p.pose.x(), p.pose.y(), p.pose.z(), s * q.x(), s * q.y(), s * q.z(),
+                         s * q.r());
+  };
+  // Sized by a first pass: a huge timestamp or position must not be cut
+  // (a cut line loses the pose).
+  std::string line(std::size_t(std::max(0, print(nullptr, 0))), '\0');
+  print(line.data(), line.size() + 1);
+  return line;
 }
 
 void writeTumTrajectory(const std::string& path, const Trajectory& traj,

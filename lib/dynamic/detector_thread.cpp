@@ -5,8 +5,8 @@
 
 namespace dynslam {
 
-DetectorThread::DetectorThread(const YoloDetectorParams& params, int interval)
-    : detector_(params), interval_(std::max(1, interval)) {
+DetectorThread::DetectorThread(const YoloDetectorParams& params, int interval, Schedule schedule)
+    : detector_(params), interval_(std::max(1, interval)), schedule_(schedule) {
   thread_.start([this] { loop(); });
 }
 
@@ -58,6 +58,10 @@ void DetectorThread::loop() {
 void DetectorThread::submit(const cv::Mat& bgr, long frame) {
   error_.rethrowIfFailed();
   if (last_submitted_ && frame - *last_submitted_ < interval_) return;
+  if (schedule_ == Schedule::kLive) {
+    std::lock_guard<std::mutex> lk(m_);
+    if (!jobs_.empty()) return;  // still busy (or its boxes not yet taken)
+  }
   last_submitted_ = frame;
   if (!first_submitted_) first_submitted_ = frame;
   Job job;
@@ -73,10 +77,12 @@ void DetectorThread::submit(const cv::Mat& bgr, long frame) {
 bool DetectorThread::takeDue(long now, std::vector<Detection>& boxes, long& frame) {
   std::unique_lock<std::mutex> lk(m_);
   // (first_submitted_, like last_submitted_, is the owner's alone: no lock.)
-  const auto due = [&](long queued) {
-    return queued == first_submitted_ ? queued <= now : queued + interval_ <= now;
+  const auto due = [&](const Job& job) {
+    if (job.frame == first_submitted_) return job.frame <= now;
+    if (schedule_ == Schedule::kLive) return job.done;
+    return job.frame + interval_ <= now;
   };
-  if (jobs_.empty() || !due(jobs_.front().frame)) {
+  if (jobs_.empty() || !due(jobs_.front())) {
     lk.unlock();
     error_.rethrowIfFailed();
     return false;

@@ -9,6 +9,9 @@
 // sequences, would otherwise become map points). Which frames are detected and when
 // their boxes arrive never depends on thread timing, so runs repeat; the
 // flow carries the boxes from frame i to the frame that uses them.
+// A live camera cannot wait for a late pass (the frames behind it would be
+// dropped): Schedule::kLive hands boxes over when they are ready and gives
+// the detector a new frame only when it is free (runs then do not repeat).
 #include <condition_variable>
 #include <cstddef>
 #include <deque>
@@ -26,21 +29,28 @@ namespace dynslam {
 
 class DetectorThread {
  public:
+  enum class Schedule {
+    kFixed,  ///< every interval-th frame, boxes at frame + interval (waiting)
+    kLive,   ///< a frame when free (at least interval apart), boxes when ready
+  };
   /// Loads the model (InputError naming it when missing or unreadable) and
   /// starts the thread.
-  DetectorThread(const YoloDetectorParams& params, int interval);
+  DetectorThread(const YoloDetectorParams& params, int interval,
+                 Schedule schedule = Schedule::kFixed);
   ~DetectorThread();
   DetectorThread(const DetectorThread&) = delete;
   DetectorThread& operator=(const DetectorThread&) = delete;
 
   /// Offers frame `frame` (BGR; frames in increasing order): queued for the
   /// thread when at least `interval` frames after the last one queued (the
-  /// first always), ignored otherwise. Rethrows a failed detection.
+  /// first always), and with kLive only when nothing is queued; ignored
+  /// otherwise. Rethrows a failed detection.
   void submit(const cv::Mat& bgr, long frame);
   /// At frame `now`: the boxes of the queued frame that is due (queued at
   /// now - interval or earlier; the first frame queued at once), waiting for
-  /// its detection to finish; false when none is due. Rethrows a failed
-  /// detection.
+  /// its detection to finish; false when none is due. With kLive a frame is
+  /// due once its detection has finished, and only the first is waited for.
+  /// Rethrows a failed detection.
   bool takeDue(long now, std::vector<Detection>& boxes, long& frame);
   /// Detections run so far.
   std::size_t runs() const;
@@ -58,6 +68,7 @@ class DetectorThread {
 
   YoloDetector detector_;
   const int interval_;
+  const Schedule schedule_;
   std::optional<long> first_submitted_;  ///< the first frame queued
   std::optional<long> last_submitted_;   ///< the last frame queued
   mutable std::mutex m_;

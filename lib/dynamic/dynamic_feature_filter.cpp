@@ -120,7 +120,9 @@ DynamicFeatureFilter::DynamicFeatureFilter(const DynamicFilterParams& params,
       moved_space_(params.moved_space) {
   if (const char* d = std::getenv("DYNSLAM_DEBUG_DYNAMIC_DIR"); d && *d) debug_dir_ = d;
   if (p_.use_detector)
-    detector_ = std::make_unique<DetectorThread>(p_.detector, p_.detector_interval);
+    detector_ = std::make_unique<DetectorThread>(
+        p_.detector, p_.detector_interval,
+        p_.live_detector ? DetectorThread::Schedule::kLive : DetectorThread::Schedule::kFixed);
 }
 
 DynamicFeatureFilter::~DynamicFeatureFilter() {

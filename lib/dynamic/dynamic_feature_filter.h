@@ -73,6 +73,12 @@ struct DynamicFilterParams {
   /// costs about three frames' worth on a 2-core machine; the boxes carried
   /// by the flow fill the gaps.
   int detector_interval = 3;
+  /// Live input (--realtime; set by the run, not a config key): the tracker
+  /// never waits for a late detection; boxes are used when they are ready
+  /// and the detector takes a new frame only when it is free
+  /// (DetectorThread::Schedule::kLive). Offline runs keep the fixed schedule
+  /// that makes them repeat.
+  bool live_detector = false;
   /// Keypoints within this distance (px) of a dynamic pixel are flagged.
   int mask_margin_px = 4;
   /// Radius (px) of the disc marked around each point that failed the motion

@@ -1,5 +1,9 @@
 #include "mapexport/ply_check.h"
 
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <cstring>
 #include <fstream>
 #include <sstream>
 #include <vector>
@@ -14,6 +18,7 @@ struct PlyElement {
   std::size_t count = 0;
   std::size_t row_bytes = 0;  ///< binary size of one row (scalar properties)
   std::vector<std::string> properties;
+  std::vector<std::string> types;  ///< of the scalar properties, in order
   bool has_list = false;
   std::size_t line = 0;
 };
@@ -47,7 +52,7 @@ std::vector<std::string> words(const std::string& line) {
 /// Reads the header lines up to end_header; leaves `in` at the first data byte.
 /// `header_lines` receives the number of header lines (for data line numbers).
 std::vector<PlyElement> readHeader(const std::string& path, std::istream& in, bool& ascii,
-                                   std::size_t& header_lines) {
+                                   bool& big_endian, std::size_t& header_lines) {
   std::string line;
   std::size_t line_no = 0;
   auto next = [&]() -> bool {
@@ -69,6 +74,7 @@ std::vector<PlyElement> readHeader(const std::string& path, std::istream& in, bo
           (w[1] != "ascii" && w[1] != "binary_little_endian" && w[1] != "binary_big_endian"))
         throw InputError(path, line_no, "unknown PLY format line '" + line + "'");
       ascii = w[1] == "ascii";
+      big_endian = w[1] == "binary_big_endian";
       have_format = true;
     } else if (w[0] == "element") {
       PlyElement e;
@@ -88,6 +94,7 @@ std::vector<PlyElement> readHeader(const std::string& path, std::istream& in, bo
       if (bytes == 0) throw InputError(path, line_no, "bad property line '" + line + "'");
       elements.back().row_bytes += bytes;
       elements.back().properties.push_back(w[2]);
+      elements.back().types.push_back(w[1]);
     } else {
       throw InputError(path, line_no, "unexpected PLY header line '" + line + "'");
     }
@@ -141,8 +148,10 @@ void checkBinarySize(const std::string& path, std::istream& in,
                                " vertices): wrong vertex count");
 }
 
+/// `camera_row` receives the words of the one-row 'camera' element, if any.
 void checkAsciiRows(const std::string& path, std::istream& in,
-                    const std::vector<PlyElement>& elements, std::size_t header_lines) {
+                    const std::vector<PlyElement>& elements, std::size_t header_lines,
+                    std::vector<std::string>& camera_row) {
   std::string line;
   std::size_t line_no = header_lines, row = 0, element = 0;
   while (std::getline(in, line)) {
@@ -159,6 +168,7 @@ void checkAsciiRows(const std::string& path, std::istream& in,
       throw InputError(path, line_no,
                        std::to_string(w.size()) + " values, the header declares " +
                            std::to_string(elements[element].properties.size()));
+    if (elements[element].name == "camera") camera_row = w;
     ++row;
   }
   std::size_t rows = 0, expected = 0;
@@ -172,6 +182,72 @@ void checkAsciiRows(const std::string& path, std::istream& in,
                                std::to_string(expected) + " rows the header declares");
 }
 
+/// One binary scalar of `type` at `p` as a double.
+double binaryValue(const std::string& type, const unsigned char* p, bool big_endian) {
+  unsigned char b[8];
+  const std::size_t n = scalarBytes(type);
+  for (std::size_t i = 0; i < n; ++i) b[i] = big_endian ? p[n - 1 - i] : p[i];  // to little
+  const auto as = [&](auto v) {
+    std::memcpy(&v, b, sizeof v);
+    return double(v);
+  };
+  if (type == "char" || type == "int8") return as(int8_t{});
+  if (type == "uchar" || type == "uint8") return as(uint8_t{});
+  if (type == "short" || type == "int16") return as(int16_t{});
+  if (type == "ushort" || type == "uint16") return as(uint16_t{});
+  if (type == "int" || type == "int32") return as(int32_t{});
+  if (type == "uint" || type == "uint32") return as(uint32_t{});
+  if (type == "float" || type == "float32") return as(float{});
+  return as(double{});
+}
+
+/// The one row of PCL's 'camera' element (after the vertices), as numbers.
+std::vector<double> binaryCameraRow(std::istream& in, std::streampos data_start,
+                                    const std::vector<PlyElement>& elements, bool big_endian) {
+  std::size_t offset = 0;
+  for (const PlyElement& e : elements) {
+    if (e.name == "camera" && e.count == 1) {
+      std::vector<unsigned char> row(e.row_bytes);
+      in.clear();
+      in.seekg(data_start + std::streamoff(offset));
+      in.read(reinterpret_cast<char*>(row.data()), std::streamsize(row.size()));
+      std::vector<double> values;
+      std::size_t at = 0;
+      for (const std::string& type : e.types) {
+        values.push_back(binaryValue(type, row.data() + at, big_endian));
+        at += scalarBytes(type);
+      }
+      return values;
+    }
+    offset += e.count * e.row_bytes;
+  }
+  return {};
+}
+
+/// PCL sizes the cloud it reads from the camera row's viewport (width x
+/// height) and trusts its other values: a viewport that is not the vertex
+/// count, or a value that is not finite, crashed `render` (issue 57). PCL's
+/// own writer stores the cloud's width and height there.
+void checkCameraRow(const std::string& path, const std::vector<PlyElement>& elements,
+                    const std::vector<double>& values, std::size_t vertices) {
+  for (const PlyElement& e : elements) {
+    if (e.name != "camera" || e.count != 1) continue;
+    double width = 1, height = 1;
+    for (std::size_t i = 0; i < values.size() && i < e.properties.size(); ++i) {
+      if (!std::isfinite(values[i]))
+        throw InputError(path, e.line,
+                         "camera element: '" + e.properties[i] + "' is not a finite number");
+      if (e.properties[i] == "viewportx") width = values[i];
+      if (e.properties[i] == "viewporty") height = values[i];
+    }
+    if (!(width >= 0 && height >= 0 && width * height == double(vertices)))
+      throw InputError(path, e.line,
+                       "camera element: viewport " + std::to_string(long(width)) + " x " +
+                           std::to_string(long(height)) + " does not hold the " +
+                           std::to_string(vertices) + " vertices");
+  }
+}
+
 }  // namespace
 
 PlyLayout checkPlyFile(const std::string& path) {
@@ -179,14 +255,26 @@ PlyLayout checkPlyFile(const std::string& path) {
   if (!in) throw InputError(path, "cannot open");
   PlyLayout layout;
   std::size_t header_lines = 0;
-  const std::vector<PlyElement> elements = readHeader(path, in, layout.ascii, header_lines);
+  bool big_endian = false;
+  const std::vector<PlyElement> elements =
+      readHeader(path, in, layout.ascii, big_endian, header_lines);
   checkElements(path, elements);
   layout.vertices = elements.front().count;
+  std::vector<double> camera;
   if (layout.ascii) {
-    checkAsciiRows(path, in, elements, header_lines);
+    std::vector<std::string> row;
+    checkAsciiRows(path, in, elements, header_lines, row);
+    for (const std::string& w : row) {
+      char* end = nullptr;
+      const double v = std::strtod(w.c_str(), &end);
+      camera.push_back(end && *end == '\0' ? v : std::nan(""));
+    }
   } else {
+    const std::streampos data_start = in.tellg();
     checkBinarySize(path, in, elements);
+    camera = binaryCameraRow(in, data_start, elements, big_endian);
   }
+  checkCameraRow(path, elements, camera, layout.vertices);
   return layout;
 }
 

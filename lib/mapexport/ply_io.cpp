@@ -54,6 +54,9 @@ void writePlyBinary(const std::string& path, const ColoredCloud& cloud) {
 ColoredCloud readPly(const std::string& path) {
   requireRegularFile(path, "PLY file");
   const PlyLayout layout = checkPlyFile(path);  // PCL trusts the header blindly
+  // PCL crashed on a PLY of no vertices with a camera element after them;
+  // there is nothing for it to read anyway (the callers refuse an empty map).
+  if (layout.vertices == 0) return {};
   pcl::PointCloud<pcl::PointXYZRGB> pc;
   int rc = -1;
   // PCL warns about every PLY property it does not map (e.g. the 'camera'

@@ -80,7 +80,9 @@ RunSummary runSlam(const RunOptions& opt) {
   }
   std::unique_ptr<DynamicFeatureFilter> filter;
   if (opt.mode != DynamicMode::kOff) {
-    filter = std::make_unique<DynamicFeatureFilter>(cfg.dynamic, source->camera());
+    DynamicFilterParams dynamic = cfg.dynamic;
+    dynamic.live_detector = opt.realtime;  // a live camera cannot wait for late boxes
+    filter = std::make_unique<DynamicFeatureFilter>(dynamic, source->camera());
     slam.setPreprocessor(filter.get());
   }
   RunRecorder record;  // written with the results

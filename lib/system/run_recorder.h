@@ -23,7 +23,7 @@ struct FrameRecord {
   double track_ms = 0;        ///< the tracker's time (NaN: not measured this frame)
   double frame_total_ms = 0;  ///< the whole frame's time (NaN: not measured)
   bool has_pose = false;      ///< tracked
-  bool lost = false;          ///< tracking lost (no pose and not initialising)
+  bool lost = false;          ///< tracking lost (no pose, after the map was started)
 };
 
 class RunRecorder {
@@ -37,6 +37,9 @@ class RunRecorder {
   std::size_t frames() const { return frame_times_.size(); }
   std::size_t tracked() const { return tracked_; }
   std::size_t lost() const { return lost_; }
+  /// Frames before the map could be started (no pose, not lost: e.g. too
+  /// few keypoints with depth). tracked + lost + uninitialised = frames.
+  std::size_t uninitialised() const { return frames() - tracked_ - lost_; }
   /// Index of the first lost frame, -1 if none was lost.
   long firstLost() const { return first_lost_; }
   std::size_t flaggedKeypoints() const { return flagged_; }

@@ -51,6 +51,7 @@ std::string runReportJson(const RunReportInputs& in) {
       .value("frames", in.summary.frames)
       .value("tracked_frames", in.record.tracked())
       .value("lost_frames", in.record.lost())
+      .value("uninitialised_frames", in.record.uninitialised())
       .value("first_lost_frame", static_cast<int64_t>(in.record.firstLost()))
       .value("tracked_fraction",
              in.summary.frames ? double(in.record.tracked()) / in.summary.frames : 0.0)

@@ -163,6 +163,25 @@ TEST(Trajectory, RoundTripKnownPose) {
   EXPECT_DOUBLE_EQ(u[1].timestamp, 2.5);
 }
 
+// A pose line is never cut, however long its numbers (a fixed 256-byte
+// buffer cut the line of a 1e300 s timestamp and lost the pose, issue 57).
+TEST(Trajectory, AHugeTimestampOrPositionIsWrittenWhole) {
+  TempDir d;
+  Trajectory t;
+  t.push_back({1e300, mrpt::poses::CPose3D(1, 2, 3, 0, 0, 0)});
+  const std::string line = formatTumLine(t[0]);
+  EXPECT_GT(line.size(), 300u);
+  EXPECT_NE(line.find(" 1.0000000 2.0000000 3.0000000 0.0000000 0.0000000 0.0000000 1.0000000"),
+            std::string::npos)
+      << line;
+  writeTumTrajectory(d / "u.txt", t);
+  const Trajectory u = readTumTrajectory(d / "u.txt");
+  ASSERT_EQ(u.size(), 1u);
+  EXPECT_DOUBLE_EQ(u[0].timestamp, 1e300);
+  EXPECT_DOUBLE_EQ(u[0].pose.x(), 1.0);
+  EXPECT_DOUBLE_EQ(u[0].pose.z(), 3.0);
+}
+
 static std::string errorOf(const std::string& content) {
   TempDir d;
   writeText(d / "gt.txt", content);

@@ -144,6 +144,42 @@ TEST(StagedFolder, RemovesStagingLeftByAProcessThatDied) {
   EXPECT_TRUE(fs::exists(other));
 }
 
+// Two writers of one folder at once: the second is refused while the first
+// holds it (each would report success, the later replacing the earlier's
+// results); once the first is done the folder is free again, and no lock
+// file is left beside it.
+TEST(StagedFolder, ASecondWriterOfTheSameFolderIsRefusedWhileTheFirstHoldsIt) {
+  TempDir d;
+  const std::string out = d / "run";
+  {
+    StagedFolder first(out, {"report.json"});
+    try {
+      StagedFolder second(out, {"report.json"});
+      ADD_FAILURE() << "a second writer was let in";
+    } catch (const InputError& e) {
+      const std::string msg = e.what();
+      EXPECT_NE(msg.find(out), std::string::npos) << msg;
+      EXPECT_NE(msg.find("pid " + std::to_string(::getpid())), std::string::npos) << msg;
+    }
+    writeText(first.path() + "/report.json", "{}");
+    first.commit();
+  }
+  EXPECT_EQ(entries(d.path()), std::vector<std::string>{"run"});
+  StagedFolder again(out, {"report.json"});  // free again: replaces the first
+  again.commit();
+}
+
+// A lock file that a killed process left is stale: the kernel released its
+// lock with the process, and the next writer takes it.
+TEST(StagedFolder, ALockFileLeftByAKilledProcessIsStale) {
+  TempDir d;
+  writeText(d / ".run.lock", "999999");
+  StagedFolder folder(d / "run", {"report.json"});
+  writeText(folder.path() + "/report.json", "{}");
+  folder.commit();
+  EXPECT_TRUE(fs::exists(d / "run/report.json"));
+}
+
 TEST(InterruptGuard, FirstSignalIsAFlagNotAnExit) {
   {
     InterruptGuard g;

@@ -304,6 +304,35 @@ TEST(DetectorThread, NoQueuedFrameIsSkipped) {
   EXPECT_EQ(det.runs(), 5u);
 }
 
+// Live input (--realtime): the detector takes a frame only when it is free,
+// so frames offered while it is busy are not queued behind it, and its
+// boxes are handed over when ready, not at a frame fixed in advance; only
+// the first frame's are waited for.
+TEST(DetectorThread, LiveScheduleTakesFramesWhenFreeAndHandsBoxesOverWhenReady) {
+  YoloDetectorParams p;
+  p.model_path = model("yolov5n_320x320");
+  DetectorThread det(p, /*interval=*/1, DetectorThread::Schedule::kLive);
+  const cv::Mat img = image("bus.jpg");
+  std::vector<Detection> boxes;
+  long from = -1;
+  det.submit(img, 0);
+  ASSERT_TRUE(det.takeDue(0, boxes, from));  // the first frame: waited for
+  EXPECT_EQ(from, 0);
+  det.submit(img, 1);
+  for (long f = 2; f < 6; ++f) det.submit(img, f);  // busy with frame 1: ignored
+  // Frame 1's boxes, as soon as they are ready (polled as later frames come).
+  long now = 1;
+  while (!det.takeDue(now, boxes, from)) {
+    ASSERT_LT(now, 100000) << "frame 1's boxes never arrived";
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    ++now;
+  }
+  EXPECT_EQ(from, 1);
+  EXPECT_FALSE(boxes.empty());
+  EXPECT_EQ(det.runs(), 2u);  // frames 2..5 were never queued
+  EXPECT_FALSE(det.takeDue(now + 1, boxes, from));
+}
+
 TEST(DetectorThread, MissingModelIsInputError) {
   YoloDetectorParams p;
   p.model_path = "/no/such/model.onnx";

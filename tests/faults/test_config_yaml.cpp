@@ -62,6 +62,15 @@ TEST_F(BadYaml, HugePyramid) { expectRejected("orb:\n  n_levels: 1000000\n"); }
 TEST_F(BadYaml, HugeFeatureCount) { expectRejected("orb:\n  n_features: 1e12\n"); }
 // MRPT's YAML reader recursed until the stack overflowed (a segfault).
 TEST_F(BadYaml, DeeplyNestedLists) { expectRejected(std::string(30000, '[') + "\n", false, ":1:"); }
+// The same for block sequences nested on one line, which the indentation
+// does not show (issue 57: a segfault in `config`, `run --config` and
+// `run --camera`).
+TEST_F(BadYaml, DeeplyNestedCompactSequences) {
+  std::string deep;
+  for (int i = 0; i < 30000; ++i) deep += "- ";
+  expectRejected(deep + "1\n", false, ":1:");
+  expectRejected("camera:\n" + deep + "1\n", true, ":2:");
+}
 TEST_F(BadYaml, DeeplyNestedCameraMaps) {
   expectRejected("camera: " + std::string(30000, '{') + "\n", true, ":1:");
 }

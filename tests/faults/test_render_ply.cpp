@@ -148,3 +148,69 @@ TEST_F(RenderBadPly, UnknownExtensionNamesEveryFormat) {
   EXPECT_NE(r.err.find(".ply, .glb or .bt"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(dir / "out.png"));
 }
+
+namespace {
+/// PCL's 'camera' element as its writer adds it, with the given viewport
+/// and focal length (the other values those of an identity view).
+void addCamera(PlySpec& s, int32_t viewport_x, int32_t viewport_y, float focal = 0.f) {
+  static const char* const kFloats1[] = {"view_px", "view_py", "view_pz", "x_axisx", "x_axisy",
+                                         "x_axisz", "y_axisx", "y_axisy", "y_axisz", "z_axisx",
+                                         "z_axisy", "z_axisz", "focal",   "scalex",  "scaley",
+                                         "centerx", "centery"};
+  s.element_after = "element camera 1\n";
+  std::string bytes;
+  const auto put = [&](const void* p, std::size_t n) {
+    bytes.append(static_cast<const char*>(p), n);
+  };
+  for (const char* name : kFloats1) {
+    s.element_after += std::string("property float ") + name + "\n";
+    const std::string n = name;
+    const float v = n == "focal" ? focal : (n == "x_axisx" || n == "y_axisy" || n == "z_axisz");
+    put(&v, 4);
+  }
+  s.element_after += "property int viewportx\nproperty int viewporty\n";
+  put(&viewport_x, 4);
+  put(&viewport_y, 4);
+  s.element_after += "property float k1\nproperty float k2\n";
+  const float zero = 0;
+  put(&zero, 4);
+  put(&zero, 4);
+  s.bytes_after = bytes;
+}
+}  // namespace
+
+// The camera element PCL's own writer adds (viewport = the cloud's width x
+// height) renders.
+TEST_F(RenderBadPly, PclsOwnCameraElementRenders) {
+  PlySpec s = valid();
+  addCamera(s, 1000, 1);
+  writePly(dir / "map.ply", s);
+  const SplitCommandResult r = runDynslamSplit(
+      {"render", dir / "map.ply", "-o", dir / "out.png", "--width", "64", "--height", "48"});
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+}
+
+// PCL sized the cloud from the camera row's viewport and trusted its values:
+// large, zero, byte-swapped or NaN values crashed `render` (issue 57).
+TEST_F(RenderBadPly, CameraViewportThatDoesNotHoldTheVertices) {
+  for (const auto& [x, y] : std::vector<std::pair<int32_t, int32_t>>{
+           {0, 0}, {1000000, 1000000}, {-1000, -1}, {int32_t(0xE8030000), 1}, {999, 1}}) {
+    PlySpec s = valid();
+    addCamera(s, x, y);
+    expectRejected(s);
+  }
+}
+
+TEST_F(RenderBadPly, CameraValueThatIsNotFinite) {
+  PlySpec s = valid();
+  addCamera(s, 1000, 1, std::numeric_limits<float>::quiet_NaN());
+  expectRejected(s);
+}
+
+// No vertices, then a camera element: PCL crashed; now the map is empty and
+// render says so.
+TEST_F(RenderBadPly, NoVerticesThenACameraElement) {
+  PlySpec s = valid(0);
+  addCamera(s, 0, 1);
+  expectRejected(s);
+}

@@ -122,6 +122,33 @@ TEST(TruncatedImages, RunRejectsTruncatedExternalRawlogDepth) {
   runRefused(d, d / "x.rawlog", fs::path(depth).filename().string());
 }
 
+// A byte changed inside an external depth matrix's deflate data, its size
+// trailer intact: MRPT inflated it up to the damage without a word and the
+// poses changed (issue 57). The stream is inflated whole before use.
+TEST(TruncatedImages, RunRejectsADepthMatrixDamagedInsideItsGzipStream) {
+  TempDir d;
+  const MiniTum tum = makeMiniTum(d.path(), 5);
+  const std::string depth = convertedExternalFile(d, tum, "depth_000003_");
+  ASSERT_FALSE(depth.empty());
+  std::string bytes = readText(depth);
+  ASSERT_GT(bytes.size(), 1000u);
+  for (std::size_t i = bytes.size() / 2; i < bytes.size() / 2 + 16; ++i) bytes[i] = char(~bytes[i]);
+  writeText(depth, bytes);
+  const SplitCommandResult r = runRefused(d, d / "x.rawlog", fs::path(depth).filename().string());
+  EXPECT_NE(r.err.find("damaged"), std::string::npos) << r.err;
+}
+
+// A gzip rawlog cut short inside its compressed stream: it was read as far
+// as it went (or reported as empty); now it is refused as truncated.
+TEST(TruncatedImages, RunRejectsARawlogCutInsideItsGzipStream) {
+  TempDir d;
+  const MiniTum tum = makeMiniTum(d.path(), 5);
+  ASSERT_FALSE(convertedExternalFile(d, tum, "rgb_000002_").empty());
+  truncateFile(d / "x.rawlog", 0.9);
+  const SplitCommandResult r = runRefused(d, d / "x.rawlog", d / "x.rawlog");
+  EXPECT_NE(r.err.find("truncated"), std::string::npos) << r.err;
+}
+
 // A pipe in place of a rawlog's external image is refused by its kind: the
 // depth matrix was reported missing, and a pipe given as the RGB image was
 // opened for reading (which waits for a writer).

@@ -7,6 +7,7 @@
 #include <filesystem>
 
 #include "core/errors.h"
+#include "core/trajectory.h"
 #include "fake_sequence.h"
 #include "rawlog/sequence_source.h"
 #include "rawlog/tum_folder_source.h"
@@ -68,6 +69,45 @@ TEST(TumList, TimestampsOutOfOrderOrRepeated) {
   expectInputError([&] { readTumList(d / "rgb.txt"); }, {d / "rgb.txt:3:", "not after"});
   writeText(d / "rgb.txt", "1.0 a.png\n1.0 b.png\n");
   expectInputError([&] { readTumList(d / "rgb.txt"); }, {d / "rgb.txt:2:"});
+}
+
+// A timestamp beyond 1e10 s (the year 2286) is a typo or damage: refused
+// with the file and line, before it makes pose lines hundreds of bytes long.
+TEST(TumList, TimestampBeyondTheYear2286IsRefused) {
+  TempDir d;
+  writeText(d / "rgb.txt", "1.0 a.png\n1e300 b.png\n");
+  expectInputError([&] { readTumList(d / "rgb.txt"); }, {d / "rgb.txt:2:", "1e10"});
+  writeText(d / "rgb.txt", "1.0 a.png\n9999999999.5 b.png\n");  // just below: kept
+  EXPECT_EQ(readTumList(d / "rgb.txt").size(), 2u);
+}
+
+// The lists name files inside the sequence folder: an absolute path or a
+// ".." is refused with the file and line (issue 57: they were followed).
+TEST(TumList, FilesOutsideTheSequenceFolderAreRefused) {
+  TempDir d;
+  writeText(d / "rgb.txt", "1.0 rgb/a.png\n2.0 /etc/passwd\n");
+  expectInputError([&] { readTumList(d / "rgb.txt"); }, {d / "rgb.txt:2:", "outside"});
+  writeText(d / "rgb.txt", "1.0 rgb/../../secret.png\n");
+  expectInputError([&] { readTumList(d / "rgb.txt"); }, {d / "rgb.txt:1:", "outside"});
+  writeText(d / "rgb.txt", "1.0 rgb/a..b.png\n");  // dots in a name are fine
+  EXPECT_EQ(readTumList(d / "rgb.txt").size(), 1u);
+}
+
+// A UTF-8 byte-order mark before the first line (saved by a Windows editor)
+// is not part of the first field: it was reported as a bad timestamp or a
+// field count (issue 57). Lists and trajectories read as without it.
+TEST(TumList, AByteOrderMarkIsNotPartOfTheFirstField) {
+  TempDir d;
+  writeText(d / "rgb.txt", "\xEF\xBB\xBF# comment\n1.0 rgb/a.png\n2.0 rgb/b.png\n");
+  ASSERT_EQ(readTumList(d / "rgb.txt").size(), 2u);
+  writeText(d / "rgb.txt", "\xEF\xBB\xBF" "1.0 rgb/a.png\n");
+  const auto e = readTumList(d / "rgb.txt");
+  ASSERT_EQ(e.size(), 1u);
+  EXPECT_DOUBLE_EQ(e[0].timestamp, 1.0);
+  writeText(d / "gt.txt", "\xEF\xBB\xBF" "1.0 1 2 3 0 0 0 1\n");
+  const Trajectory t = readTumTrajectory(d / "gt.txt");
+  ASSERT_EQ(t.size(), 1u);
+  EXPECT_DOUBLE_EQ(t[0].pose.x(), 1.0);
 }
 
 TEST(TumList, EmptyOrMissingList) {
@@ -174,11 +214,14 @@ TEST(TumFolder, NoAssociatedPairs) {
   writeList(s.dir + "/depth.txt", {"1305031229.571 " + s.depth_files[0]});
   expectInputError([&] { TumFolderSource(s.dir, s.config); },
                    {s.dir, "no RGB-D pairs", "the nearest are 0.038 s apart"});
-  // A gap of about 1e95 s prints as 96 digits before the point: the message
-  // must still end with its unit and closing bracket.
-  writeList(s.dir + "/depth.txt", {"1e95 " + s.depth_files[0]});
+  // The largest gap a list allows (time stamps up to 1e10 s) prints whole:
+  // the message still ends with its unit and closing bracket.
+  writeList(s.dir + "/depth.txt", {"9999999999.5 " + s.depth_files[0]});
   expectInputError([&] { TumFolderSource(s.dir, s.config); },
-                   {s.dir, "no RGB-D pairs", ".000 s apart)"});
+                   {s.dir, "no RGB-D pairs", "8694968769.967 s apart)"});
+  // A time stamp of 1e95 s is refused by the list itself.
+  writeList(s.dir + "/depth.txt", {"1e95 " + s.depth_files[0]});
+  expectInputError([&] { TumFolderSource(s.dir, s.config); }, {s.dir + "/depth.txt:1:", "1e10"});
 }
 
 TEST(TumFolder, GroundtruthWithBadQuaternion) {

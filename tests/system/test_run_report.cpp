@@ -85,6 +85,7 @@ TEST(RunReport, CarriesTheRunsCountsAndIdentity) {
   EXPECT_EQ(static_cast<int>(r["frames"]), 4);
   EXPECT_EQ(static_cast<int>(r["tracked_frames"]), 3);
   EXPECT_EQ(static_cast<int>(r["lost_frames"]), 1);
+  EXPECT_EQ(static_cast<int>(r["uninitialised_frames"]), 0);
   EXPECT_EQ(static_cast<int>(r["first_lost_frame"]), 2);
   EXPECT_DOUBLE_EQ(static_cast<double>(r["tracked_fraction"]), 0.75);
   EXPECT_EQ(static_cast<int>(r["keyframes"]), 7);
@@ -134,6 +135,23 @@ TEST(RunReport, SplitsTheCpuTimePerFrameByThread) {
   EXPECT_DOUBLE_EQ(static_cast<double>(t["mapping"]), 25.0);
   EXPECT_DOUBLE_EQ(static_cast<double>(t["detector"]), 15.0);
   EXPECT_DOUBLE_EQ(static_cast<double>(t["other"]), 18.0);
+}
+
+// Frames before the map could be started are neither tracked nor lost: they
+// are counted on their own, so that the counts add up to the frames.
+TEST(RunReport, CountsFramesBeforeTheMapStartedSoTheCountsAddUp) {
+  ReportParts p;
+  p.record = RunRecorder();
+  p.record.addFrame(frame(1.0, 10, false, false));  // no map yet
+  p.record.addFrame(frame(2.0, 10, false, false));
+  p.record.addFrame(frame(3.0, 10, true, false));
+  p.record.addFrame(frame(4.0, 10, false, true));
+  cv::FileStorage r = parse(p.json());
+  ASSERT_TRUE(r.isOpened());
+  EXPECT_EQ(static_cast<int>(r["tracked_frames"]), 1);
+  EXPECT_EQ(static_cast<int>(r["lost_frames"]), 1);
+  EXPECT_EQ(static_cast<int>(r["uninitialised_frames"]), 2);
+  EXPECT_EQ(static_cast<int>(r["first_lost_frame"]), 3);
 }
 
 TEST(RunReport, SaysWhenTheRunWasInterrupted) {
