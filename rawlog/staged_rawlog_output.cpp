@@ -52,23 +52,28 @@ void checkReplaceableSiblings(const std::string& rawlog, const std::string& imag
   const std::string advice = ": move it away or choose another output name";
   if (fs::exists(fs::symlink_status(images, ec))) {
     if (!isDirectory(images) || fs::is_symlink(fs::symlink_status(images, ec)))
-      throw InputError(images, "exists and is not an earlier conversion's images folder; the "
-                               "conversion would replace it" + advice);
+      throw InputError(images,
+                       "exists and is not an earlier conversion's images folder; the "
+                       "conversion would replace it" +
+                           advice);
     if (!earlier_rawlog && !fs::is_empty(images, ec))
       throw InputError(images, "holds files but " + rawlog +
                                    " does not exist: not an earlier conversion's images, and "
-                                   "the conversion would replace the folder" + advice);
+                                   "the conversion would replace the folder" +
+                                   advice);
     for (const auto& entry : fs::directory_iterator(images, ec))
       if (!entry.is_regular_file(ec) || entry.is_symlink(ec) ||
           !isConvertedImageName(entry.path().filename().string()))
         throw InputError(entry.path().string(),
                          "is not an earlier conversion's image (rgb_NNNNNN_*, depth_NNNNNN_*), "
-                         "and the conversion would replace its folder" + advice);
+                         "and the conversion would replace its folder" +
+                             advice);
   }
   if (!earlier_rawlog && fs::exists(fs::symlink_status(groundtruth, ec)))
     throw InputError(groundtruth, "exists but " + rawlog +
                                       " does not: not an earlier conversion's groundtruth, and "
-                                      "the conversion would overwrite it" + advice);
+                                      "the conversion would overwrite it" +
+                                      advice);
 }
 }  // namespace
 

@@ -86,7 +86,8 @@ std::vector<ModeSummary> summarizeModes(const BenchResults& res) {
       ModeSummary m;
       m.sequence = seq.name;
       m.mode = mode;
-      std::vector<double> ate, ate_sd, rt, rt_sd, rr, rr_sd, cov, fmean, fmed, fp95, tmed, fps, mem, cpu;
+      std::vector<double> ate, ate_sd, rt, rt_sd, rr, rr_sd, cov, fmean, fmed, fp95, tmed, fps, mem,
+          cpu;
       std::vector<double> recall, fr, fr_out, standing, kfs, points, relocs, loops;
       std::array<std::vector<double>, kCpuThreads.size()> cpu_threads;
       std::vector<std::pair<double, int>> ate_by_run;

@@ -13,6 +13,7 @@
 #include "core/checksum.h"
 #include "core/errors.h"
 #include "core/interrupt.h"
+#include "core/run_counts.h"
 #include "core/run_layout.h"
 #include "rawlog/sequence_source.h"
 
@@ -93,6 +94,7 @@ RunRecord readRunRecord(const BenchPlan& plan, const PlannedRun& run) {
   r.map_points = jsonNumberAt(report, "map_points");
   r.relocalisations = jsonNumberAt(report, "relocalisation_count");
   r.loops_closed = jsonNumberAt(report, "loop_closing.loops_closed");
+  checkRunFilesAgainstReport(r.dir);  // a trajectory cut short would be evaluated as it is
   r.times = readFrameTimes(layout.frameTimes());
   std::vector<std::string> outputs;
   for (const std::string& f : {layout.trajectory(), layout.keyFrames(), layout.mapPoints()})

@@ -6,9 +6,9 @@
 // `dynslam eval` prints for that trajectory (with --max-frames, coverage is
 // over the frames the run was given). Everything in a record is read from the
 // run folder, so runs made elsewhere (--emit-jobs) give the same report.
+#include <array>
 #include <functional>
 #include <optional>
-#include <array>
 #include <string>
 #include <vector>
 
@@ -26,13 +26,13 @@ inline constexpr std::array<const char*, 6> kCpuThreads = {"tracking", "mapping"
 struct RunRecord {
   std::string sequence;  ///< name (see sequenceNames)
   std::string mode;
-  int run = 0;             ///< 1-based
-  std::string dir;         ///< the run folder
-  bool ok = false;         ///< ran, and evaluated when there is groundtruth
-  std::string error;       ///< why not ok
-  double wall_s = 0;       ///< report.json "wall_time_s" (the frame loop)
-  double peak_rss_mb = 0;  ///< report.json "peak_rss_mb" (the run process)
-  double fps = 0;          ///< report.json "fps" (frames / tracking-loop time)
+  int run = 0;                  ///< 1-based
+  std::string dir;              ///< the run folder
+  bool ok = false;              ///< ran, and evaluated when there is groundtruth
+  std::string error;            ///< why not ok
+  double wall_s = 0;            ///< report.json "wall_time_s" (the frame loop)
+  double peak_rss_mb = 0;       ///< report.json "peak_rss_mb" (the run process)
+  double fps = 0;               ///< report.json "fps" (frames / tracking-loop time)
   double cpu_ms_per_frame = 0;  ///< report.json "cpu_ms_per_frame" (process user + sys / frames)
   /// report.json "cpu_ms_per_frame_by_thread", in the order of kCpuThreads.
   std::array<double, kCpuThreads.size()> cpu_by_thread{};

@@ -233,7 +233,7 @@ class DynamicFeatureFilter : public ObservationPreprocessor {
   std::vector<uint8_t> prev_age_;
   bool have_prev_ = false;
   cv::Mat prev_motion_mask_;  // motion regions of the previous frame's last judgement
-  long frame_ = -1;  // index of the frame prepare() last saw (frames may skip indices)
+  long frame_ = -1;           // index of the frame prepare() last saw (frames may skip indices)
   // The moved-space memory drops its stale cells once per this many frames
   // (only to keep it small: no verdict depends on when).
   static constexpr long kForgetPeriodFrames = 100;

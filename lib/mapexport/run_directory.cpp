@@ -11,6 +11,7 @@
 #include "core/atomic_file.h"
 #include "core/errors.h"
 #include "core/json_writer.h"
+#include "core/run_counts.h"
 #include "core/run_info.h"
 #include "core/run_layout.h"
 #include "core/timing.h"
@@ -28,6 +29,7 @@ RunDirectory readRunDirectory(const std::string& dir) {
   run.dir = dir;
   requireRegularFile(run.runInfoPath());
   requireRegularFile(run.keyframesPath());
+  checkRunFilesAgainstReport(dir);
 
   const RunInfo info = readRunInfo(run.runInfoPath());
   // A relative path is resolved against the run folder if it exists there.

@@ -133,8 +133,9 @@ void LocalMapper::mapKeyFrame(KeyFrame* kf) {
     if (logEnabled(LogLevel::kDebug)) {
       std::size_t out = 0;
       for (bool b : res.inlier) out += !b;
-      logf(LogLevel::kDebug, "map", "kf %ld BA: %zu kfs, %zu points, %zu obs, %zu outliers, %d iterations%s",
-           kf->id, problem->problem().keyframes.size(), problem->points().size(),
+      logf(LogLevel::kDebug, "map",
+           "kf %ld BA: %zu kfs, %zu points, %zu obs, %zu outliers, %d iterations%s", kf->id,
+           problem->problem().keyframes.size(), problem->points().size(),
            problem->problem().observations.size(), out, res.iterations,
            res.converged ? ", converged" : "");
     }

@@ -190,27 +190,28 @@ std::string writeFixedEstimate(const std::string& path) {
 /// trajectory into the run folder, or fails when the mode is flow.
 std::string writeFakeDynslam(const TempDir& dir, const std::string& trajectory) {
   const std::string path = dir / "fake_dynslam";
-  test::writeText(path,
-                  "#!/bin/sh\n"
-                  "# args: run SEQ -o DIR --mode MODE ...\n"
-                  "out=\"$4\"; mode=\"$6\"\n"
-                  "if [ \"$mode\" = flow ]; then echo 'simulated failure' >&2; exit 3; fi\n"
-                  "mkdir -p \"$out\"\n"  // as the real run: it makes its folder
-                  "cp '" +
-                      trajectory +
-                      "' \"$out/trajectory.txt\"\n"
-                      "printf '{\\n  \"fps\": 12.5,\\n  \"cpu_ms_per_frame\": 40.5,\\n  "
-                      "\"cpu_ms_per_frame_by_thread\": {\\n    \"tracking\": 20, \"reader\": 4, "
-                      "\"mapping\": 10, \"detector\": 5, \"final_ba\": 0.5, \"other\": 1\\n  },\\n  "
-                      "\"peak_rss_mb\": 1,\\n  \"keyframes\": "
-                      "7,\\n  \"map_points\": 321,\\n  "
-                      "\"relocalisation_count\": 2,\\n  \"loop_closing\": {\\n    "
-                      "\"loops_closed\": 1\\n  },\\n  \"mask_scores\": {\\n    "
-                      "\"recall\": 0.9,\\n    \"false_rejection_rate\": 0.08,\\n    "
-                      "\"false_rejection_rate_outside_unmasked_person_boxes\": 0.05,\\n    "
-                      "\"standing_rejection_rate\": 0.5\\n  }\\n}\\n' > \"$out/report.json\"\n"
-                      "printf '# t track total\\n1.0 2.0 4.0\\n2.0 3.0 nan\\n3.0 1.0 8.0\\n' > "
-                      "\"$out/frame_times.txt\"\n");
+  test::writeText(
+      path,
+      "#!/bin/sh\n"
+      "# args: run SEQ -o DIR --mode MODE ...\n"
+      "out=\"$4\"; mode=\"$6\"\n"
+      "if [ \"$mode\" = flow ]; then echo 'simulated failure' >&2; exit 3; fi\n"
+      "mkdir -p \"$out\"\n"  // as the real run: it makes its folder
+      "cp '" +
+          trajectory +
+          "' \"$out/trajectory.txt\"\n"
+          "printf '{\\n  \"fps\": 12.5,\\n  \"cpu_ms_per_frame\": 40.5,\\n  "
+          "\"cpu_ms_per_frame_by_thread\": {\\n    \"tracking\": 20, \"reader\": 4, "
+          "\"mapping\": 10, \"detector\": 5, \"final_ba\": 0.5, \"other\": 1\\n  },\\n  "
+          "\"peak_rss_mb\": 1,\\n  \"keyframes\": "
+          "7,\\n  \"map_points\": 321,\\n  "
+          "\"relocalisation_count\": 2,\\n  \"loop_closing\": {\\n    "
+          "\"loops_closed\": 1\\n  },\\n  \"mask_scores\": {\\n    "
+          "\"recall\": 0.9,\\n    \"false_rejection_rate\": 0.08,\\n    "
+          "\"false_rejection_rate_outside_unmasked_person_boxes\": 0.05,\\n    "
+          "\"standing_rejection_rate\": 0.5\\n  }\\n}\\n' > \"$out/report.json\"\n"
+          "printf '# t track total\\n1.0 2.0 4.0\\n2.0 3.0 nan\\n3.0 1.0 8.0\\n' > "
+          "\"$out/frame_times.txt\"\n");
   ::chmod(path.c_str(), 0755);
   return path;
 }

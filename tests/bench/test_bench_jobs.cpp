@@ -45,7 +45,8 @@ std::string writeFakeDynslam(const TempDir& dir) {
       "$1, $2 + r * 0.001, $3, $4, $5, $6, $7, $8 }' \"$2/groundtruth.txt\" > "
       "\"$out/trajectory.txt\"\n"
       "printf '{\\n  \"fps\": 12.5,\\n  \"wall_time_s\": 3.5,\\n  \"peak_rss_mb\": 100,\\n"
-      "  \"keyframes\": 7,\\n  \"map_points\": 321\\n}\\n' > \"$out/report.json\"\n"
+      "  \"tracked_frames\": 200,\\n  \"keyframes\": 7,\\n  \"map_points\": 321\\n}\\n' > "
+      "\"$out/report.json\"\n"
       "printf '# t track total\\n1.0 2.0 4.0\\n2.0 3.0 5.0\\n' > \"$out/frame_times.txt\"\n"
       "echo \"$mode done\"\n");
   ::chmod(path.c_str(), 0755);
@@ -287,6 +288,14 @@ TEST(BenchJobs, CollectRefusesInterruptedOrDamagedRuns) {
   EXPECT_NE(error.find("JSON"), std::string::npos) << error;
   test::writeText(report, "{\n  \"interrupted\": false,\n" + whole.substr(2));
   EXPECT_EQ(collectError(), "no error");
+  // A trajectory cut short after the run: its 200 poses no longer match the
+  // report's tracked_frames, and it would have been evaluated as it is.
+  const std::string trajectory = plan.runs[1].dir + "/trajectory.txt";
+  const std::string poses = test::readText(trajectory);
+  test::writeText(trajectory, poses.substr(0, poses.rfind('\n', poses.size() / 2) + 1));
+  error = collectError();
+  EXPECT_EQ(error.find(trajectory + ": "), 0u) << error;
+  EXPECT_NE(error.find("tracked_frames"), std::string::npos) << error;
 }
 
 // --emit-jobs writes the plan and the job file, or neither: a job file that

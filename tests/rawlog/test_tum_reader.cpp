@@ -100,11 +100,15 @@ TEST(TumList, AByteOrderMarkIsNotPartOfTheFirstField) {
   TempDir d;
   writeText(d / "rgb.txt", "\xEF\xBB\xBF# comment\n1.0 rgb/a.png\n2.0 rgb/b.png\n");
   ASSERT_EQ(readTumList(d / "rgb.txt").size(), 2u);
-  writeText(d / "rgb.txt", "\xEF\xBB\xBF" "1.0 rgb/a.png\n");
+  writeText(d / "rgb.txt",
+            "\xEF\xBB\xBF"
+            "1.0 rgb/a.png\n");
   const auto e = readTumList(d / "rgb.txt");
   ASSERT_EQ(e.size(), 1u);
   EXPECT_DOUBLE_EQ(e[0].timestamp, 1.0);
-  writeText(d / "gt.txt", "\xEF\xBB\xBF" "1.0 1 2 3 0 0 0 1\n");
+  writeText(d / "gt.txt",
+            "\xEF\xBB\xBF"
+            "1.0 1 2 3 0 0 0 1\n");
   const Trajectory t = readTumTrajectory(d / "gt.txt");
   ASSERT_EQ(t.size(), 1u);
   EXPECT_DOUBLE_EQ(t[0].pose.x(), 1.0);

@@ -1,0 +1,37 @@
+#include "core/run_counts.h"
+
+#include <cmath>
+#include <string>
+
+#include "core/atomic_file.h"
+#include "core/errors.h"
+#include "core/json_reader.h"
+#include "core/run_layout.h"
+#include "core/text_table.h"
+
+namespace dynslam {
+
+void checkRunFilesAgainstReport(const std::string& run_dir) {
+  const RunLayout layout{run_dir};
+  if (!fileExists(layout.report())) return;
+  const std::string report = readTextFile(layout.report());
+  if (!isWellFormedJson(report))
+    throw InputError(layout.report(), "not valid JSON (truncated or damaged); run it again");
+  const struct {
+    std::string file, key, what;
+  } counted[] = {{layout.trajectory(), "tracked_frames", "poses"},
+                 {layout.keyFrames(), "keyframes", "keyframes"},
+                 {layout.mapPoints(), "map_points", "points"}};
+  for (const auto& c : counted) {
+    const double reported = jsonNumberAt(report, c.key);
+    if (!std::isfinite(reported) || !fileExists(c.file)) continue;
+    std::size_t lines = 0;
+    forEachDataLine(c.file, [&](const TextLine&) { ++lines; });
+    if (double(lines) != reported)
+      throw InputError(c.file, "holds " + std::to_string(lines) + " " + c.what + ", the run's " +
+                                   "report.json says " + std::to_string(long(reported)) + " (\"" +
+                                   c.key + "\"): cut short or edited since the run");
+  }
+}
+
+}  // namespace dynslam
