@@ -13,6 +13,7 @@
 //
 // Keeping images outside the rawlog keeps it small (kilobytes, not gigabytes)
 // and lets RGB be bit-exact copies of the original JPEG/PNG files.
+#include <cstddef>
 #include <string>
 
 namespace dynslam {
@@ -22,5 +23,12 @@ std::string rawlogImagesDir(const std::string& rawlog_path);
 
 /// "<dir>/<stem>_groundtruth.txt" for "<dir>/<stem>.rawlog".
 std::string rawlogGroundtruthPath(const std::string& rawlog_path);
+
+/// The name of frame i's file in OUT_Images/: "<kind>_NNNNNN_<rest>",
+/// kind "rgb" or "depth".
+std::string convertedImageName(const char* kind, std::size_t i, const std::string& rest);
+/// Whether `name` is one convertedImageName() makes (an earlier
+/// conversion's file, which a new conversion may replace).
+bool isConvertedImageName(const std::string& name);
 
 }  // namespace dynslam

@@ -28,19 +28,6 @@ const std::string& checkedRawlogPath(const std::string& path) {
   return path;
 }
 
-/// A file `dynslam convert` writes into OUT_Images/ (rawlog_layout.h):
-/// rgb_NNNNNN_* or depth_NNNNNN_*.
-bool isConvertedImageName(const std::string& name) {
-  for (const std::string prefix : {"rgb_", "depth_"}) {
-    if (name.rfind(prefix, 0) != 0 || name.size() < prefix.size() + 7) continue;
-    bool digits = true;
-    for (std::size_t i = prefix.size(); i < prefix.size() + 6; ++i)
-      digits = digits && name[i] >= '0' && name[i] <= '9';
-    if (digits && name[prefix.size() + 6] == '_') return true;
-  }
-  return false;
-}
-
 /// The siblings that commit() replaces must be an earlier conversion's
 /// (the rawlog beside them, the images named as convert names them):
 /// anything else is the user's, and the conversion is refused before it

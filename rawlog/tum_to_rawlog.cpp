@@ -16,6 +16,7 @@
 #include "core/mrpt_messages.h"
 #include "core/progress.h"
 #include "rawlog/mrpt_images_base.h"
+#include "rawlog/rawlog_layout.h"
 #include "rawlog/staged_rawlog_output.h"
 #include "rawlog/tum_folder_source.h"
 
@@ -24,12 +25,6 @@ namespace fs = std::filesystem;
 using mrpt::obs::CObservation3DRangeScan;
 
 namespace {
-
-std::string numbered(const char* prefix, std::size_t i, const std::string& rest) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%s_%06zu_", prefix, i);
-  return buf + rest;
-}
 
 void copyFile(const std::string& from, const std::string& to) {
   std::error_code ec;
@@ -63,7 +58,7 @@ CObservation3DRangeScan::Ptr makeObservation(const TumFolderSource& src, std::si
     std::memcpy(&obs->rangeImage(y, 0), f.depth.ptr<uint16_t>(y),
                 sizeof(uint16_t) * static_cast<std::size_t>(f.depth.cols));
   const std::string depth_name =
-      numbered("depth", i, fs::path(src.pair(i).depth.file).stem().string() + ".bin");
+      convertedImageName("depth", i, fs::path(src.pair(i).depth.file).stem().string() + ".bin");
   {
     ImagesBaseScope base(images_dir);
     try {
@@ -75,7 +70,7 @@ CObservation3DRangeScan::Ptr makeObservation(const TumFolderSource& src, std::si
   }
 
   const std::string rgb_name =
-      numbered("rgb", i, fs::path(src.pair(i).rgb.file).filename().string());
+      convertedImageName("rgb", i, fs::path(src.pair(i).rgb.file).filename().string());
   copyFile(f.rgb_source, images_dir + "/" + rgb_name);
   obs->hasIntensityImage = true;
   obs->intensityImageChannel = CObservation3DRangeScan::CH_VISIBLE;

@@ -9,7 +9,6 @@
 
 #include <atomic>
 #include <cmath>
-#include <ctime>
 #include <thread>
 #include <utility>
 
@@ -39,13 +38,11 @@ class CpuTimedThread {
   }
   /// CPU time (ms) the thread has used so far; 0 when it never started.
   double cpuMs() {
-    if (finished_) return exit_cpu_ms_;
-    if (!thread_.joinable()) return 0.0;
+    if (finished_ || !thread_.joinable()) return exit_cpu_ms_;
     clockid_t id{};
-    timespec ts{};
-    if (pthread_getcpuclockid(thread_.native_handle(), &id) != 0 || clock_gettime(id, &ts) != 0)
-      return finished_ ? exit_cpu_ms_.load() : 0.0;  // ended between the two reads
-    return 1e3 * double(ts.tv_sec) + 1e-6 * double(ts.tv_nsec);
+    const double ms =
+        pthread_getcpuclockid(thread_.native_handle(), &id) == 0 ? cpuClockMs(id) : std::nan("");
+    return std::isnan(ms) ? exit_cpu_ms_.load() : ms;  // NaN: it ended between the reads
   }
 
  private:

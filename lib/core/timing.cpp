@@ -2,6 +2,7 @@
 
 #include <sys/resource.h>
 
+#include <cmath>
 #include <ctime>
 
 namespace dynslam {
@@ -15,14 +16,14 @@ double peakRssMb() {
 double processCpuSeconds() {
   // Nanosecond resolution (getrusage's is microseconds), for the
   // micro-benchmarks' sub-millisecond steps too.
-  timespec ts{};
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-  return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
+  return 1e-3 * cpuClockMs(CLOCK_PROCESS_CPUTIME_ID);
 }
 
-double currentThreadCpuMs() {
+double currentThreadCpuMs() { return cpuClockMs(CLOCK_THREAD_CPUTIME_ID); }
+
+double cpuClockMs(clockid_t clock) {
   timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  if (clock_gettime(clock, &ts) != 0) return std::nan("");
   return 1e3 * double(ts.tv_sec) + 1e-6 * double(ts.tv_nsec);
 }
 

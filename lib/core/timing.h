@@ -3,6 +3,7 @@
 // reports, export reports and benchmarks print: one monotonic clock and one
 // definition of each reading, so every stage is measured the same way.
 #include <chrono>
+#include <ctime>
 
 namespace dynslam {
 
@@ -28,5 +29,9 @@ double processCpuSeconds();
 inline double processCpuMs() { return 1e3 * processCpuSeconds(); }
 /// User + system CPU time (ms) of the calling thread so far.
 double currentThreadCpuMs();
+/// The reading (ms) of a CPU-time clock (CLOCK_PROCESS_CPUTIME_ID, a
+/// thread's pthread_getcpuclockid); NaN when it cannot be read (the thread
+/// has ended).
+double cpuClockMs(clockid_t clock);
 
 }  // namespace dynslam

@@ -201,51 +201,52 @@ double binaryValue(const std::string& type, const unsigned char* p, bool big_end
   return as(double{});
 }
 
-/// The one row of PCL's 'camera' element (after the vertices), as numbers.
+/// PCL's one-row 'camera' element (checkElements allows it after the
+/// vertices), or null.
+const PlyElement* cameraElement(const std::vector<PlyElement>& elements) {
+  for (const PlyElement& e : elements)
+    if (e.name == "camera" && e.count == 1) return &e;
+  return nullptr;
+}
+
+/// The row of `camera` (one of `elements`) as numbers.
 std::vector<double> binaryCameraRow(std::istream& in, std::streampos data_start,
-                                    const std::vector<PlyElement>& elements, bool big_endian) {
+                                    const std::vector<PlyElement>& elements,
+                                    const PlyElement& camera, bool big_endian) {
   std::size_t offset = 0;
-  for (const PlyElement& e : elements) {
-    if (e.name == "camera" && e.count == 1) {
-      std::vector<unsigned char> row(e.row_bytes);
-      in.clear();
-      in.seekg(data_start + std::streamoff(offset));
-      in.read(reinterpret_cast<char*>(row.data()), std::streamsize(row.size()));
-      std::vector<double> values;
-      std::size_t at = 0;
-      for (const std::string& type : e.types) {
-        values.push_back(binaryValue(type, row.data() + at, big_endian));
-        at += scalarBytes(type);
-      }
-      return values;
-    }
-    offset += e.count * e.row_bytes;
+  for (const PlyElement* e = elements.data(); e != &camera; ++e) offset += e->count * e->row_bytes;
+  std::vector<unsigned char> row(camera.row_bytes);
+  in.clear();
+  in.seekg(data_start + std::streamoff(offset));
+  in.read(reinterpret_cast<char*>(row.data()), std::streamsize(row.size()));
+  std::vector<double> values;
+  std::size_t at = 0;
+  for (const std::string& type : camera.types) {
+    values.push_back(binaryValue(type, row.data() + at, big_endian));
+    at += scalarBytes(type);
   }
-  return {};
+  return values;
 }
 
 /// PCL sizes the cloud it reads from the camera row's viewport (width x
 /// height) and trusts its other values: a viewport that is not the vertex
 /// count, or a value that is not finite, crashed `render` (issue 57). PCL's
 /// own writer stores the cloud's width and height there.
-void checkCameraRow(const std::string& path, const std::vector<PlyElement>& elements,
+void checkCameraRow(const std::string& path, const PlyElement& camera,
                     const std::vector<double>& values, std::size_t vertices) {
-  for (const PlyElement& e : elements) {
-    if (e.name != "camera" || e.count != 1) continue;
-    double width = 1, height = 1;
-    for (std::size_t i = 0; i < values.size() && i < e.properties.size(); ++i) {
-      if (!std::isfinite(values[i]))
-        throw InputError(path, e.line,
-                         "camera element: '" + e.properties[i] + "' is not a finite number");
-      if (e.properties[i] == "viewportx") width = values[i];
-      if (e.properties[i] == "viewporty") height = values[i];
-    }
-    if (!(width >= 0 && height >= 0 && width * height == double(vertices)))
-      throw InputError(path, e.line,
-                       "camera element: viewport " + std::to_string(long(width)) + " x " +
-                           std::to_string(long(height)) + " does not hold the " +
-                           std::to_string(vertices) + " vertices");
+  double width = 1, height = 1;
+  for (std::size_t i = 0; i < values.size() && i < camera.properties.size(); ++i) {
+    if (!std::isfinite(values[i]))
+      throw InputError(path, camera.line,
+                       "camera element: '" + camera.properties[i] + "' is not a finite number");
+    if (camera.properties[i] == "viewportx") width = values[i];
+    if (camera.properties[i] == "viewporty") height = values[i];
   }
+  if (!(width >= 0 && height >= 0 && width * height == double(vertices)))
+    throw InputError(path, camera.line,
+                     "camera element: viewport " + std::to_string(long(width)) + " x " +
+                         std::to_string(long(height)) + " does not hold the " +
+                         std::to_string(vertices) + " vertices");
 }
 
 }  // namespace
@@ -260,21 +261,22 @@ PlyLayout checkPlyFile(const std::string& path) {
       readHeader(path, in, layout.ascii, big_endian, header_lines);
   checkElements(path, elements);
   layout.vertices = elements.front().count;
-  std::vector<double> camera;
+  const PlyElement* camera = cameraElement(elements);
+  std::vector<double> camera_row;
   if (layout.ascii) {
     std::vector<std::string> row;
     checkAsciiRows(path, in, elements, header_lines, row);
     for (const std::string& w : row) {
       char* end = nullptr;
       const double v = std::strtod(w.c_str(), &end);
-      camera.push_back(end && *end == '\0' ? v : std::nan(""));
+      camera_row.push_back(end && *end == '\0' ? v : std::nan(""));
     }
   } else {
     const std::streampos data_start = in.tellg();
     checkBinarySize(path, in, elements);
-    camera = binaryCameraRow(in, data_start, elements, big_endian);
+    if (camera) camera_row = binaryCameraRow(in, data_start, elements, *camera, big_endian);
   }
-  checkCameraRow(path, elements, camera, layout.vertices);
+  if (camera) checkCameraRow(path, *camera, camera_row, layout.vertices);
   return layout;
 }
 
