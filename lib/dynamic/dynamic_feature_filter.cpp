@@ -14,21 +14,21 @@
 #include "core/timing.h"
 #include "dynamic/flow_points.h"
 #include "dynamic/track_neighbours.h"
+#include "dynamic/yolo_detector.h"
 
 namespace dynslam {
 namespace {
 /// The previous frame's lost tracks (LK failed) that something now covers:
 /// under the tracker's motion the point should be at depth z, and the
-/// current depth there is nearer by more than 10 % (a surface in front of
-/// it, not depth noise: a Kinect's is ~3 % at 4 m, and blur, which also
-/// loses tracks, leaves the depth where it was). Returned as their raw pixel
+/// current depth there is below covered_ratio x z
+/// (DynamicFilterParams::covered_depth_ratio). Returned as their raw pixel
 /// positions in the current frame (the previous raw position moved by the
 /// undistorted prediction).
 std::vector<cv::Point2f> coveredTracksNow(const std::vector<cv::Point2f>& prev_points,
                                           const std::vector<uint8_t>& tracked,
                                           const cv::Mat& prev_depth, const cv::Mat& cur_depth,
                                           const PinholeCamera& camera, const CameraMotion& motion,
-                                          float depth_edge_ratio) {
+                                          float depth_edge_ratio, double covered_ratio) {
   std::vector<cv::Point2f> lost;
   for (std::size_t i = 0; i < prev_points.size(); ++i)
     if (i >= tracked.size() || !tracked[i]) lost.push_back(prev_points[i]);
@@ -48,7 +48,7 @@ std::vector<cv::Point2f> coveredTracksNow(const std::vector<cv::Point2f>& prev_p
     const int u = cvRound(q.x), v = cvRound(q.y);
     if (u < 0 || v < 0 || u >= cur_depth.cols || v >= cur_depth.rows) continue;
     const double z_now = cur_depth.at<uint16_t>(v, u) / camera.depth_scale;
-    if (z_now > 0 && z_now < 0.9 * Y[2]) now.push_back(q);
+    if (z_now > 0 && z_now < covered_ratio * Y[2]) now.push_back(q);
   }
   return now;
 }
@@ -77,28 +77,22 @@ std::vector<uint8_t> keypointsOnCoveredTracks(const std::vector<cv::KeyPoint>& k
   return out;
 }
 
-// The dense flow's test takes 1.5 x the judgement's reprojection threshold:
-// DIS at half resolution is less precise than LK on a keypoint, and at 1.0
-// or 1.25 x it flagged more than 8 % of rpy_close's static keypoints
-// (docs/benchmarks.md, 2026-12-06).
-constexpr float kDenseThresholdScale = 1.5f;
-
-// A keypoint whose nearest judged track within this many track spacings
-// moved makes no map point (keypointsNearestToMovingTracks).
-constexpr double kMovingNeighbourSpacings = 1.5;
-
-// Share of the map's keypoints (map_inlier[i]) that `flags` marks dynamic;
-// NaN without any, so that every comparison with a bound is false.
-double mapInliersFlagged(const std::vector<uint8_t>& map_inlier,
-                         const std::vector<uint8_t>& flags) {
-  std::size_t inliers = 0, flagged = 0;
-  for (std::size_t i = 0; i < map_inlier.size() && i < flags.size(); ++i)
+// Share of the map's keypoints (map_inlier[i]) that `labels` labels
+// moving; NaN without any, so that every comparison with a bound is false.
+double mapInliersMoving(const std::vector<uint8_t>& map_inlier, const LabelPolicy& policy,
+                        const std::vector<uint16_t>& cues) {
+  std::size_t inliers = 0, moving = 0;
+  for (std::size_t i = 0; i < map_inlier.size() && i < cues.size(); ++i)
     if (map_inlier[i]) {
       ++inliers;
-      flagged += flags[i] != 0;
+      moving += policy.labelOf(cues[i]) == KeypointLabel::kMoving;
     }
-  return inliers ? double(flagged) / double(inliers) : std::nan("");
+  return inliers ? double(moving) / double(inliers) : std::nan("");
 }
+
+/// The motion cues: any of them alone labels a keypoint moving
+/// (LabelPolicy's defaults).
+constexpr uint16_t kMotionCues = cue::kBox | cue::kRegion | cue::kMovingTrack | cue::kDenseFlow;
 
 /// A depth-backed camera point (z <= 0: none) in the world; non-finite
 /// (ignored by MovedSpaceMemory) without depth.
@@ -110,19 +104,45 @@ cv::Vec3d worldPoint(const cv::Matx44d& pose_wc, const cv::Point3f& X) {
 
 }  // namespace
 
+/// What label() keeps of a frame for judge(): the LK tracks into it, the
+/// two depth images, the confirmed boxes' surfaces and the keypoints.
+struct DynamicFeatureFilter::FrameToJudge : PendingJudgement {
+  long frame = -1;
+  bool has_tracks = false;  ///< the flow judged: there were tracks into it
+  std::vector<cv::Point2f> prev_points, cur_points;
+  std::vector<uint8_t> prev_age, tracked;
+  cv::Mat prev_depth, cur_depth, box_mask;
+  std::vector<Detection> boxes;
+  std::vector<cv::KeyPoint> keypoints;
+  std::vector<uint16_t> prior_cues;  ///< the cues of the prior (label()'s labels)
+  cv::Mat prior_mask;                ///< mask_ after label()
+  cv::Mat rgb;                       ///< only with DYNSLAM_DEBUG_DYNAMIC_DIR
+};
+
 DynamicFeatureFilter::DynamicFeatureFilter(const DynamicFilterParams& params,
                                            const PinholeCamera& camera)
     : p_(params),
       camera_(camera),
+      policy_(params.labels),
       box_masker_(params.box_mask),
-      carrier_(params.carrier),
       motion_(params.motion),
-      moved_space_(params.moved_space) {
+      memory_(params.carrier, params.moved_space) {
   if (const char* d = std::getenv("DYNSLAM_DEBUG_DYNAMIC_DIR"); d && *d) debug_dir_ = d;
   if (p_.use_detector)
     detector_ = std::make_unique<DetectorThread>(
         p_.detector, p_.detector_interval,
         p_.live_detector ? DetectorThread::Schedule::kLive : DetectorThread::Schedule::kFixed);
+  // The margin's structuring element as offsets: a keypoint has a part's cue
+  // when the part's dilation by it covers the keypoint.
+  if (p_.mask_margin_px > 0) {
+    const int k = 2 * p_.mask_margin_px + 1;
+    const cv::Mat se = cv::getStructuringElement(cv::MORPH_ELLIPSE, {k, k});
+    for (int y = 0; y < k; ++y)
+      for (int x = 0; x < k; ++x)
+        if (se.at<uint8_t>(y, x)) margin_offsets_.emplace_back(x - k / 2, y - k / 2);
+  } else {
+    margin_offsets_.emplace_back(0, 0);
+  }
 }
 
 DynamicFeatureFilter::~DynamicFeatureFilter() {
@@ -150,34 +170,32 @@ void DynamicFeatureFilter::selectFlowPoints(const std::vector<cv::KeyPoint>& key
                                             const std::vector<uint8_t>& carried_age) {
   FlowPoints chosen = dynslam::selectFlowPoints(keypoints, carried, carried_age,
                                                 std::size_t(std::max(0, p_.max_flow_points)));
-  prev_points_ = std::move(chosen.points);
-  prev_age_ = std::move(chosen.age);
+  memory_.tracks = std::move(chosen.points);
+  memory_.track_age = std::move(chosen.age);
 }
 
 cv::Mat DynamicFeatureFilter::prepare(const RGBDFrame& frame, const cv::Mat& gray) {
   const auto t_all = SteadyClock::now();
   // The frame is known by its index in the input, so that frames dropped
-  // before SLAM (--realtime) leave gaps, not a count that no longer matches
-  // the index frameTracked() is given.
-  if (long(frame.index) <= frame_)
+  // before SLAM (--realtime) leave gaps in the memory's ages.
+  if (long(frame.index) <= memory_.frame)
     throw std::logic_error("DynamicFeatureFilter::prepare: frame " + std::to_string(frame.index) +
-                           " after frame " + std::to_string(frame_) +
+                           " after frame " + std::to_string(memory_.frame) +
                            ": frames must come in increasing order");
-  frame_ = long(frame.index);
-  prepared_frame_ = frame_;
+  const long index = long(frame.index);
+  memory_.frame = index;
+  prepared_ = true;
   mask_ = cv::Mat::zeros(gray.size(), CV_8UC1);
-  unjudged_.clear();
-  if (detector_) detector_->submit(frame.rgb, frame_);
+  if (detector_) detector_->submit(frame.rgb, index);
 
   // Pyramid of this frame (the pipeline reuses its grey buffer: keep a copy);
-  // both cues need the LK flow (the boxes are carried by it).
+  // both sources need the LK flow (the boxes are carried by it).
   auto t0 = SteadyClock::now();
-  MotionFrame& cur = cur_;
-  cur = motion_.makeFrame(gray.clone(), frame.depth);
+  cur_ = motion_.makeFrame(gray.clone(), frame.depth);
   times_["pyramid"].push_back(msSince(t0));
   if (p_.use_flow) {
     t0 = SteadyClock::now();
-    dense_flow_.addFrame(gray);
+    memory_.dense_flow.addFrame(gray);
     times_["dense_flow"].push_back(msSince(t0));
   }
 
@@ -185,55 +203,52 @@ cv::Mat DynamicFeatureFilter::prepare(const RGBDFrame& frame, const cv::Mat& gra
   t0 = SteadyClock::now();
   std::vector<uint8_t> tracked;
   std::vector<cv::Point2f> cur_points;
-  const bool have_flow = have_prev_ && !prev_points_.empty();
-  if (have_flow) cur_points = motion_.track(prev_, cur, prev_points_, tracked);
+  const bool have_flow = memory_.have_frame && !memory_.tracks.empty();
+  if (have_flow) cur_points = motion_.track(memory_.image, cur_, memory_.tracks, tracked);
   times_["lk"].push_back(msSince(t0));
 
   // Detector boxes carried to this frame, and their depth mask.
   t0 = SteadyClock::now();
   boxes_now_.clear();
+  BoxCarrier& carrier = memory_.boxes;
   if (detector_) {
     if (have_flow) {
       FlowStep step;
-      step.to_frame = frame_;
+      step.to_frame = index;
       for (std::size_t i = 0; i < tracked.size(); ++i)
         if (tracked[i]) {
-          step.from.push_back(prev_points_[i]);
+          step.from.push_back(memory_.tracks[i]);
           step.to.push_back(cur_points[i]);
         }
-      carrier_.addFlow(std::move(step));
+      carrier.addFlow(std::move(step));
     } else {
-      carrier_.advanceWithoutFlow(frame_);
+      carrier.advanceWithoutFlow(index);
     }
     std::vector<Detection> dets;
     long det_frame = -1;
-    if (detector_->takeDue(frame_, dets, det_frame)) carrier_.addDetections(det_frame, dets);
-    boxes_now_ = carrier_.boxes();
+    if (detector_->takeDue(index, dets, det_frame)) carrier.addDetections(det_frame, dets);
+    boxes_now_ = carrier.boxes();
   }
   double ms_boxes = msSince(t0);
 
-  // Before tracking (pre-flags): the detector's boxes at the object's depth
-  // and the moving points carried from the last judgement, with the last
-  // judgement's regions moved along by their flow. The motion check itself
-  // runs once the tracker has the pose (frameTracked).
+  // The prior: the detector's boxes at the object's depth and the moving
+  // points carried from the last judgement, with its regions moved along
+  // by their flow. The motion test itself runs once the tracker has the
+  // pose (judge).
   MotionEvidence pre;
   if (p_.use_flow && have_flow) {
-    if (!prev_motion_mask_.empty()) pre.mask = warpedMotionMask(cur_points, tracked);
+    if (!memory_.regions.empty()) pre.mask = warpedRegions(cur_points, tracked);
     for (std::size_t i = 0; i < tracked.size(); ++i)
-      if (tracked[i] && prev_age_[i]) pre.addMoving(cur_points[i], int(prev_age_[i]) - 1);
+      if (tracked[i] && memory_.track_age[i])
+        pre.addMoving(cur_points[i], int(memory_.track_age[i]) - 1);
   }
-  // The judgement's flags (what mapping uses) keep the surfaces of the
-  // boxes one of the detector's last two runs confirmed. A box carried on
-  // from a miss has mostly lost its person (gone out of view, or the box
-  // slid onto the desk it stood over); what of it still moves, the motion
-  // check finds. The pre-flags, which only guide tracking, keep it. (Each
-  // box's surface depends on that box alone, so the two masks add up.)
   t0 = SteadyClock::now();
   // Boxes arrive `interval` frames after the frame they were detected on and
-  // runs are `interval` apart, so the last two runs detected within the last
-  // 3 x interval - 1 frames.
+  // runs are `interval` apart, so the last n runs detected within the last
+  // (n + 1) x interval - 1 frames.
   const long interval = p_.detector_interval;
-  const BoxCarrier::ConfirmedSplit split = carrier_.boxesSplitAt(frame_ - 3 * interval + 1);
+  const BoxCarrier::ConfirmedSplit split =
+      carrier.boxesSplitAt(index - (p_.confirming_runs + 1) * interval + 1);
   const cv::Mat confirmed_mask = boxMask(frame.depth, split.confirmed, pre.moving);
   cv::Mat box_mask = boxMask(frame.depth, split.carried_on, pre.moving);
   if (box_mask.empty())
@@ -241,100 +256,145 @@ cv::Mat DynamicFeatureFilter::prepare(const RGBDFrame& frame, const cv::Mat& gra
   else if (!confirmed_mask.empty())
     box_mask |= confirmed_mask;
   times_["boxes"].push_back(ms_boxes + msSince(t0));
-  buildMask(pre, box_mask);
-  judge_.frame = -1;
+  prior_parts_ = buildMask(pre, box_mask);
+  to_judge_ = std::make_unique<FrameToJudge>();
+  FrameToJudge& j = *to_judge_;
+  j.frame = index;
+  j.cur_depth = cur_.depth;
+  if (!debug_dir_.empty()) j.rgb = frame.rgb;
   if (p_.use_flow && have_flow) {
-    Judgement& j = judge_;
-    j.frame = frame_;
-    // process() selects the next frame's points anew: these are done with.
-    j.prev_points = std::move(prev_points_);
-    j.prev_age = std::move(prev_age_);
+    j.has_tracks = true;
+    // label() selects the next frame's points anew: these are done with.
+    j.prev_points = std::move(memory_.tracks);
+    j.prev_age = std::move(memory_.track_age);
     j.cur_points = std::move(cur_points);
     j.tracked = std::move(tracked);
-    j.prev_depth = prev_.depth;
-    j.cur_depth = cur.depth;
+    j.prev_depth = memory_.image.depth;
     j.box_mask = confirmed_mask;
     j.boxes = boxes_now_;
   }
-  prev_motion_mask_ = pre.mask;
-  writeDebugImage(box_mask, pre.mask);
+  memory_.regions = pre.mask;
+  writeDebugImage(prior_parts_);
   pre_carried_ = std::move(pre.carried);
   pre_carried_age_ = std::move(pre.carried_age);
   prepare_ms_ = msSince(t_all);
   return mask_;
 }
 
-void DynamicFeatureFilter::process(const RGBDFrame&, const cv::Mat&,
-                                   const std::vector<cv::KeyPoint>& keypoints,
-                                   std::vector<uint8_t>& dynamic) {
-  if (prepared_frame_ != frame_ || frame_ < 0)
-    throw std::logic_error("DynamicFeatureFilter::process: prepare() the frame first");
+PreLabels DynamicFeatureFilter::label(const RGBDFrame&, const cv::Mat&,
+                                      const std::vector<cv::KeyPoint>& keypoints) {
+  if (!prepared_ || !to_judge_)
+    throw std::logic_error("DynamicFeatureFilter::label: prepare() the frame first");
   const auto t0 = SteadyClock::now();
-  prepared_frame_ = -1;
-  std::fill(dynamic.begin(), dynamic.end(), 0);
-  const std::size_t flagged = flagOnMask(keypoints, dynamic);
-  if (judge_.frame == frame_) judge_.keypoints = keypoints;
+  prepared_ = false;
+  PreLabels out;
+  std::vector<uint16_t> cues = cuesOnMask(keypoints, prior_parts_);
+  out.labels = policy_.fuse(cues);
+  FrameToJudge& j = *to_judge_;
+  j.keypoints = keypoints;
+  j.prior_cues = std::move(cues);
+  j.prior_mask = mask_.clone();
+  out.pending = std::move(to_judge_);
   logf(LogLevel::kTrace, "dynamic",
-       "frame %ld: %zu keypoints, %zu pre-flagged, %zu boxes, %zu carried", frame_,
-       keypoints.size(), flagged, boxes_now_.size(), pre_carried_.size());
-  // Untracked frames go on from the carried points, one frame older;
-  // frameTracked() replaces them with the new judgement's.
+       "frame %ld: %zu keypoints, %zu moving before tracking, "
+       "%zu boxes, %zu carried",
+       memory_.frame, keypoints.size(), out.labels.count(KeypointLabel::kMoving), boxes_now_.size(),
+       pre_carried_.size());
+  // Untracked frames go on from the carried points, one frame older; a
+  // judgement replaces them with its own.
   selectFlowPoints(keypoints, pre_carried_, pre_carried_age_);
-  prev_ = std::move(cur_);
+  memory_.image = std::move(cur_);
   cur_ = MotionFrame();
-  have_prev_ = true;
+  memory_.have_frame = true;
   times_["total"].push_back(prepare_ms_ + msSince(t0));
+  return out;
 }
 
-void DynamicFeatureFilter::writeDebugImage(const cv::Mat& box_mask, const cv::Mat& regions) const {
+void DynamicFeatureFilter::writeDebugImage(const MaskParts& parts) const {
   if (debug_dir_.empty()) return;
   // Diagnostics: B = box mask, G = grown regions, R = everything before dilation.
-  cv::Mat planes[3] = {box_mask.empty() ? cv::Mat::zeros(mask_.size(), CV_8U) : box_mask.clone(),
-                       regions.empty() ? cv::Mat::zeros(mask_.size(), CV_8U) : regions, undilated_};
+  const cv::Mat zeros = cv::Mat::zeros(mask_.size(), CV_8U);
+  cv::Mat all = parts.tracks.clone();
+  if (!parts.regions.empty()) all |= parts.regions;
+  if (!parts.boxes.empty()) all |= parts.boxes;
+  cv::Mat planes[3] = {parts.boxes.empty() ? zeros.clone() : parts.boxes.clone(),
+                       parts.regions.empty() ? zeros : parts.regions, all};
   for (const auto& b : boxes_now_) cv::rectangle(planes[0], cv::Rect(b.box), cv::Scalar(128), 2);
   cv::Mat bgr;
   cv::merge(planes, 3, bgr);
   char name[32];
-  std::snprintf(name, sizeof name, "/%06ld.png", frame_);
+  std::snprintf(name, sizeof name, "/%06ld.png", memory_.frame);
   cv::imwrite(debug_dir_ + name, bgr);
 }
 
-bool DynamicFeatureFilter::frameTracked(std::size_t index, const TrackedPose& pose,
-                                        std::vector<uint8_t>& dynamic) {
-  const long f = long(index);
-  bool changed = false;
-  if (pose.has_pose && judge_.frame == f && dynamic.size() == judge_.keypoints.size()) {
-    if (pose.has_last_pose) {
-      changed = judge(pose.last_pose_wc, pose, dynamic);
-    } else {
-      // Tracked again after lost frames (a relocalisation): no camera motion
-      // to judge the flow under, but the space seen moving before is known
-      // in the map's frame, and what stands there makes no map point.
-      unjudged_count_ += holdBackMovedSpace(pose.pose_wc, dynamic);
-    }
+KeypointLabels DynamicFeatureFilter::finalLabels(std::vector<uint16_t> cues) {
+  KeypointLabels labels = policy_.fuse(std::move(cues));
+  for (std::size_t i = 0; i < labels.size(); ++i) {
+    unsure_count_ += labels.unsure(i);
+    for (int b = 0; b < cue::kCount; ++b) cue_counts_[std::size_t(b)] += (labels.cues[i] >> b) & 1u;
   }
-  judge_.frame = -1;
-  return changed;
+  return labels;
 }
 
-cv::Mat DynamicFeatureFilter::warpedMotionMask(const std::vector<cv::Point2f>& cur_points,
-                                               const std::vector<uint8_t>& tracked) const {
+std::optional<KeypointLabels> DynamicFeatureFilter::judge(std::unique_ptr<PendingJudgement> pending,
+                                                          const TrackedPose& pose) {
+  auto* j = dynamic_cast<FrameToJudge*>(pending.get());
+  if (!j) return std::nullopt;
+  if (!pose.has_pose || !j->has_tracks || j->frame != memory_.frame) {
+    finalLabels(j->prior_cues);  // counted; the prior stays
+    return std::nullopt;
+  }
+  std::vector<uint16_t> cues;
+  if (pose.has_last_pose) {
+    cues = judgeUnderMotion(*j, pose);
+  } else {
+    // Tracked again after lost frames (a relocalisation): no camera motion
+    // to judge the flow under, but the space seen moving before is known
+    // in the map's frame, and what stands there makes no map point.
+    cues = j->prior_cues;
+    cueMovedSpace(*j, pose.pose_wc, cues);
+  }
+  KeypointLabels labels = finalLabels(std::move(cues));
+  writeLabelImage(*j, labels);
+  return labels;
+}
+
+void DynamicFeatureFilter::writeLabelImage(const FrameToJudge& j,
+                                           const KeypointLabels& labels) const {
+  if (debug_dir_.empty() || j.rgb.empty()) return;
+  // Diagnostics: the frame with each keypoint in its label's colour
+  // (green static, red moving, yellow unsure; docs/dynamic_stage.md).
+  cv::Mat img;
+  if (j.rgb.channels() == 3)
+    img = j.rgb.clone();
+  else
+    cv::cvtColor(j.rgb, img, cv::COLOR_GRAY2BGR);
+  const cv::Scalar colour[3] = {{0, 200, 0}, {0, 0, 255}, {0, 220, 255}};
+  for (std::size_t i = 0; i < labels.size() && i < j.keypoints.size(); ++i)
+    cv::circle(img, j.keypoints[i].pt, 3, colour[int(labels.label[i])], cv::FILLED, cv::LINE_AA);
+  char name[40];
+  std::snprintf(name, sizeof name, "/%06ld_labels.png", j.frame);
+  cv::imwrite(debug_dir_ + name, img);
+}
+
+cv::Mat DynamicFeatureFilter::warpedRegions(const std::vector<cv::Point2f>& cur_points,
+                                            const std::vector<uint8_t>& tracked) const {
   // The median flow of the carried points (of all points if too few).
   std::vector<float> dx, dy, gx, gy;
   for (std::size_t i = 0; i < tracked.size(); ++i) {
     if (!tracked[i]) continue;
-    auto& x = prev_age_[i] ? dx : gx;
-    auto& y = prev_age_[i] ? dy : gy;
-    x.push_back(cur_points[i].x - prev_points_[i].x);
-    y.push_back(cur_points[i].y - prev_points_[i].y);
+    auto& x = memory_.track_age[i] ? dx : gx;
+    auto& y = memory_.track_age[i] ? dy : gy;
+    x.push_back(cur_points[i].x - memory_.tracks[i].x);
+    y.push_back(cur_points[i].y - memory_.tracks[i].y);
   }
   if (dx.size() < 3) dx.swap(gx), dy.swap(gy);
-  if (dx.empty()) return prev_motion_mask_;
+  if (dx.empty()) return memory_.regions;
   std::nth_element(dx.begin(), dx.begin() + dx.size() / 2, dx.end());
   std::nth_element(dy.begin(), dy.begin() + dy.size() / 2, dy.end());
   const cv::Matx23f shift(1, 0, dx[dx.size() / 2], 0, 1, dy[dy.size() / 2]);
   cv::Mat out;
-  cv::warpAffine(prev_motion_mask_, out, shift, prev_motion_mask_.size(), cv::INTER_NEAREST);
+  cv::warpAffine(memory_.regions, out, shift, memory_.regions.size(), cv::INTER_NEAREST);
   return out;
 }
 
@@ -352,12 +412,11 @@ void DynamicFeatureFilter::collectMoving(MotionEvidence& ev,
   }
 }
 
-bool DynamicFeatureFilter::judge(const cv::Matx44d& prev_pose_wc, const TrackedPose& pose,
-                                 std::vector<uint8_t>& dynamic) {
-  Judgement& j = judge_;
+std::vector<uint16_t> DynamicFeatureFilter::judgeUnderMotion(FrameToJudge& j,
+                                                             const TrackedPose& pose) {
   const auto t0 = SteadyClock::now();
   // Previous camera -> current camera, from the tracker.
-  const cv::Matx44d rel = pose.pose_wc.inv() * prev_pose_wc;
+  const cv::Matx44d rel = pose.pose_wc.inv() * pose.last_pose_wc;
   CameraMotion known;
   known.R = rel.get_minor<3, 3>(0, 0);
   known.t = cv::Vec3d(rel(0, 3), rel(1, 3), rel(2, 3));
@@ -366,87 +425,79 @@ bool DynamicFeatureFilter::judge(const cv::Matx44d& prev_pose_wc, const TrackedP
                           camera_, j.boxes, j.cur_depth.size(), &j.prev_age, &known);
   ev.mask = ev.r.mask;
   collectMoving(ev, j.cur_points, j.tracked, j.prev_age);
-  const cv::Mat before = mask_.clone();
-  std::vector<uint8_t> verdict(dynamic.size(), 0);
-  buildMask(ev, j.box_mask);
-  std::size_t flagged = flagOnMask(j.keypoints, verdict);
+  const MaskParts parts = buildMask(ev, j.box_mask);
+  std::vector<uint16_t> cues = cuesOnMask(j.keypoints, parts);
   // The map's evidence: keypoints the tracker matched to map points under
-  // this pose are static; a judgement flagging most of them is wrong.
-  const double inliers_flagged = mapInliersFlagged(pose.map_inliers, verdict);
-  // The dense flow's verdicts come last and are the weakest evidence: they
-  // are kept only where the map does not veto them too.
-  if (!(inliers_flagged > p_.max_map_inliers_flagged)) {
-    std::vector<uint8_t> with_flow = verdict;
+  // this pose are static; a judgement labelling many of them moving is
+  // wrong (blur, a wrong pose), and the map vetoes it.
+  const double inliers_moving = mapInliersMoving(pose.map_inliers, policy_, cues);
+  const bool vetoed = inliers_moving > p_.max_map_inliers_flagged;
+  // The dense flow's cues come last and are the weakest: they are kept only
+  // where the map does not veto them too.
+  if (!vetoed) {
+    std::vector<uint16_t> with_flow = cues;
     const cv::Mat mask_before_flow = mask_.clone();
-    const std::size_t added = flagOnDenseFlow(ev.r, with_flow);
-    if (mapInliersFlagged(pose.map_inliers, with_flow) > p_.max_map_inliers_flagged) {
+    cueDenseFlow(j, ev.r, with_flow);
+    if (mapInliersMoving(pose.map_inliers, policy_, with_flow) > p_.max_map_inliers_flagged)
       mask_ = mask_before_flow;
-    } else {
-      verdict.swap(with_flow);
-      flagged += added;
-    }
+    else
+      cues.swap(with_flow);
   }
+  for (std::size_t k = 0; k < cues.size() && k < pose.map_inliers.size(); ++k)
+    if (pose.map_inliers[k]) cues[k] |= cue::kMapInlier;
   times_["judge"].push_back(msSince(t0));
-  if (inliers_flagged > p_.max_map_inliers_flagged) {
+  if (vetoed) {
     ++rejected_judgements_;
-    mask_ = before;
-    // The map overrules the verdicts as a whole, so they flag nothing; but
-    // what they saw moving off the map's inliers is not vouched for
-    // either, and makes no map point (a walker filling the view would
-    // otherwise enter the map in the very frames whose judgement it spoils).
-    unjudged_.assign(j.keypoints.size(), 0);
-    std::size_t doubted = 0;
-    for (std::size_t k = 0; k < verdict.size() && k < dynamic.size(); ++k)
-      if (verdict[k] && !dynamic[k] && !(k < pose.map_inliers.size() && pose.map_inliers[k])) {
-        unjudged_[k] = 1;
-        ++doubted;
-      }
-    const std::size_t held_back = holdBackMovedSpace(pose.pose_wc, dynamic);
-    unjudged_count_ += doubted + held_back;
-    logf(LogLevel::kTrace, "dynamic",
-         "frame %ld: judgement rejected: %.2f of the map inliers flagged (%zu unjudged, %zu in "
-         "moved space)",
-         frame_, inliers_flagged, doubted, held_back);
-    return false;
+    mask_ = j.prior_mask;
+    // The map overrules the verdicts as a whole, so the prior stays; but
+    // what they saw moving off the map's inliers is not vouched for either
+    // (a walker filling the view would otherwise enter the map in the very
+    // frames whose judgement it spoils).
+    std::vector<uint16_t> out = j.prior_cues;
+    for (std::size_t k = 0; k < out.size(); ++k) {
+      if (k < pose.map_inliers.size() && pose.map_inliers[k]) out[k] |= cue::kMapInlier;
+      if ((cues[k] & kMotionCues) && !(out[k] & (kMotionCues | cue::kMapInlier)))
+        out[k] |= cue::kVetoed;
+    }
+    cueMovedSpace(j, pose.pose_wc, out);
+    logf(LogLevel::kTrace, "dynamic", "frame %ld: judgement vetoed: %.2f of the map inliers moving",
+         j.frame, inliers_moving);
+    return out;
   }
-  dynamic = std::move(verdict);
   // One track spacing: the image area per LK point of this judgement.
   const cv::Size size = j.cur_depth.size();
   const double spacing =
       std::sqrt(double(size.area()) / double(std::max<std::size_t>(1, j.prev_points.size())));
-  unjudged_ = keypointsOnCoveredTracks(
+  const std::vector<uint8_t> covered = keypointsOnCoveredTracks(
       j.keypoints, j.cur_points, ev.r.tracked,
       coveredTracksNow(j.prev_points, ev.r.tracked, j.prev_depth, j.cur_depth, camera_, known,
-                       p_.motion.depth_edge_ratio),
+                       p_.motion.depth_edge_ratio, p_.covered_depth_ratio),
       size, spacing);
   const std::vector<uint8_t> beside_moving =
       keypointsNearestToMovingTracks(j.keypoints, j.cur_points, ev.r.tracked, ev.r.dynamic, size,
-                                     kMovingNeighbourSpacings * spacing);
-  for (std::size_t k = 0; k < unjudged_.size() && k < dynamic.size(); ++k)
-    if (!dynamic[k] && beside_moving[k]) unjudged_[k] = 1;
-  voteMovedSpace(pose.pose_wc, ev.r);
-  const std::size_t held_back = holdBackMovedSpace(pose.pose_wc, dynamic);
-  const std::size_t unjudged = std::size_t(std::count(unjudged_.begin(), unjudged_.end(), 1));
-  unjudged_count_ += unjudged;
-  // The flags are the judgement's; the pixel mask (lastMask(), what the
-  // dense export leaves out of a keyframe) keeps the pre-flags too: a pixel
+                                     p_.moving_neighbour_spacings * spacing);
+  for (std::size_t k = 0; k < cues.size(); ++k) {
+    if (covered[k]) cues[k] |= cue::kCoveredTrack;
+    if (beside_moving[k]) cues[k] |= cue::kBesideMoving;
+  }
+  voteMovedSpace(j, pose.pose_wc, ev.r);
+  cueMovedSpace(j, pose.pose_wc, cues);
+  // The labels are the judgement's; the pixel mask (lastMask(), what the
+  // dense export leaves out of a keyframe) keeps the prior too: a pixel
   // either saw moving stays out of the map, which other keyframes fill in.
-  mask_ |= before;
+  mask_ |= j.prior_mask;
   ++judged_frames_;
-  writeDebugImage(j.box_mask, ev.mask);
-  logf(LogLevel::kTrace, "dynamic",
-       "frame %ld: judged under the tracker's motion: %zu flagged, %zu unjudged (%zu in moved "
-       "space)",
-       frame_, flagged, unjudged, held_back);
+  writeDebugImage(parts);
+  logf(LogLevel::kTrace, "dynamic", "frame %ld: judged under the tracker's motion", j.frame);
   // The next frame goes on from these verdicts.
   selectFlowPoints(j.keypoints, ev.carried, ev.carried_age);
-  prev_motion_mask_ = ev.mask;
-  return true;
+  memory_.regions = ev.mask;
+  return cues;
 }
 
-void DynamicFeatureFilter::voteMovedSpace(const cv::Matx44d& pose_wc, const MotionResult& judged) {
-  const Judgement& j = judge_;
-  if (!moved_space_.enabled() || j.cur_depth.empty()) return;
+void DynamicFeatureFilter::voteMovedSpace(const FrameToJudge& j, const cv::Matx44d& pose_wc,
+                                          const MotionResult& judged) {
+  if (!memory_.moved_space.enabled() || j.cur_depth.empty()) return;
   const float edge_ratio = p_.motion.depth_edge_ratio;
   // The judged tracks vote: static, or moving inside a region that passed
   // the judgement's region vote. A moving track alone (LK slipping along a
@@ -459,36 +510,29 @@ void DynamicFeatureFilter::voteMovedSpace(const cv::Matx44d& pose_wc, const Moti
     const bool moving = judged.geometry.dynamic[k];
     const cv::Point q(cvRound(raw.x), cvRound(raw.y));
     if (moving && !(image.contains(q) && judged.mask.at<uint8_t>(q))) continue;
-    moved_space_.addTrack(
+    memory_.moved_space.addTrack(
         worldPoint(pose_wc, backProject(j.cur_depth, raw, c.cur[k], camera_, edge_ratio)), moving,
-        frame_);
+        j.frame);
   }
 }
 
-std::size_t DynamicFeatureFilter::holdBackMovedSpace(const cv::Matx44d& pose_wc,
-                                                     const std::vector<uint8_t>& dynamic) {
-  const Judgement& j = judge_;
-  if (!moved_space_.enabled() || j.cur_depth.empty()) return 0;
+void DynamicFeatureFilter::cueMovedSpace(const FrameToJudge& j, const cv::Matx44d& pose_wc,
+                                         std::vector<uint16_t>& cues) {
+  MovedSpaceMemory& moved = memory_.moved_space;
+  if (!moved.enabled() || j.cur_depth.empty()) return;
   const float edge_ratio = p_.motion.depth_edge_ratio;
-  // The keypoints in space that won the vote lately make no map point.
   std::vector<cv::Point2f> pts(j.keypoints.size());
   for (std::size_t k = 0; k < pts.size(); ++k) pts[k] = j.keypoints[k].pt;
   const std::vector<cv::Point2f> undist = undistortPixels(pts, camera_);
-  std::size_t held = 0;
-  unjudged_.resize(pts.size(), 0);
   for (std::size_t k = 0; k < pts.size(); ++k)
-    if (!dynamic[k] && !unjudged_[k] &&
-        moved_space_.movedRecently(
+    if (moved.movedRecently(
             worldPoint(pose_wc, backProject(j.cur_depth, pts[k], undist[k], camera_, edge_ratio)),
-            frame_)) {
-      unjudged_[k] = 1;
-      ++held;
-    }
-  if (frame_ / kForgetPeriodFrames != forgotten_period_) {
-    forgotten_period_ = frame_ / kForgetPeriodFrames;
-    moved_space_.forgetBefore(frame_);
+            j.frame))
+      cues[k] |= cue::kMovedSpace;
+  if (j.frame / kForgetPeriodFrames != memory_.forgotten_period) {
+    memory_.forgotten_period = j.frame / kForgetPeriodFrames;
+    moved.forgetBefore(j.frame);
   }
-  return held;
 }
 
 void DynamicFeatureFilter::MotionEvidence::addMoving(const cv::Point2f& p, int age) {
@@ -527,48 +571,63 @@ cv::Mat DynamicFeatureFilter::boxMask(const cv::Mat& depth, const std::vector<De
   return box_masker_.computeFromBoxes(depth, camera_.depth_scale, boxes, nullptr, &hints);
 }
 
-void DynamicFeatureFilter::buildMask(const MotionEvidence& ev, const cv::Mat& box_mask) {
-  mask_ = ev.mask.empty() ? cv::Mat::zeros(mask_.size(), CV_8UC1) : ev.mask.clone();
+DynamicFeatureFilter::MaskParts DynamicFeatureFilter::buildMask(const MotionEvidence& ev,
+                                                                const cv::Mat& box_mask) {
+  MaskParts parts;
+  parts.regions = ev.mask;
+  parts.tracks = cv::Mat::zeros(mask_.size(), CV_8UC1);
   if (p_.moving_point_radius_px > 0)
     for (const auto& q : ev.moving)
-      cv::circle(mask_, q, p_.moving_point_radius_px, cv::Scalar(255), cv::FILLED);
+      cv::circle(parts.tracks, q, p_.moving_point_radius_px, cv::Scalar(255), cv::FILLED);
+  parts.boxes = box_mask;
+  mask_ = ev.mask.empty() ? parts.tracks.clone() : (ev.mask | parts.tracks);
   if (!box_mask.empty()) mask_ |= box_mask;
-  if (!debug_dir_.empty()) undilated_ = mask_.clone();
   if (p_.mask_margin_px > 0 && cv::countNonZero(mask_) > 0) {
     const int k = 2 * p_.mask_margin_px + 1;
     cv::dilate(mask_, mask_, cv::getStructuringElement(cv::MORPH_ELLIPSE, {k, k}));
   }
+  return parts;
 }
 
-std::size_t DynamicFeatureFilter::flagOnMask(const std::vector<cv::KeyPoint>& keypoints,
-                                             std::vector<uint8_t>& dynamic) const {
-  std::size_t n = 0;
+std::vector<uint16_t> DynamicFeatureFilter::cuesOnMask(const std::vector<cv::KeyPoint>& keypoints,
+                                                       const MaskParts& parts) const {
+  std::vector<uint16_t> cues(keypoints.size(), 0);
+  const cv::Rect image(0, 0, mask_.cols, mask_.rows);
+  const std::pair<const cv::Mat*, uint16_t> sources[3] = {{&parts.regions, cue::kRegion},
+                                                          {&parts.tracks, cue::kMovingTrack},
+                                                          {&parts.boxes, cue::kBox}};
   for (std::size_t i = 0; i < keypoints.size(); ++i) {
-    const int u = cvRound(keypoints[i].pt.x), v = cvRound(keypoints[i].pt.y);
-    if (u >= 0 && v >= 0 && u < mask_.cols && v < mask_.rows && mask_.at<uint8_t>(v, u)) {
-      dynamic[i] = 1;
-      ++n;
+    const cv::Point p(cvRound(keypoints[i].pt.x), cvRound(keypoints[i].pt.y));
+    if (!image.contains(p) || !mask_.at<uint8_t>(p)) continue;
+    for (const auto& [part, bit] : sources) {
+      if (part->empty()) continue;
+      for (const cv::Point& o : margin_offsets_) {
+        const cv::Point q = p + o;
+        if (image.contains(q) && part->at<uint8_t>(q)) {
+          cues[i] |= bit;
+          break;
+        }
+      }
     }
   }
-  return n;
+  return cues;
 }
 
-std::size_t DynamicFeatureFilter::flagOnDenseFlow(const MotionResult& judged,
-                                                  std::vector<uint8_t>& dynamic) {
+std::size_t DynamicFeatureFilter::cueDenseFlow(const FrameToJudge& j, const MotionResult& judged,
+                                               std::vector<uint16_t>& cues) {
   const GeometryResult& g = judged.geometry;
-  if (!g.has_pose || !dense_flow_.hasFlow()) return 0;
-  const Judgement& j = judge_;
+  if (!g.has_pose || !memory_.dense_flow.hasFlow()) return 0;
   CameraMotion motion;
   motion.R = g.R;
   motion.t = g.t;
   // (The judgement's threshold is already at least the configured one.)
-  const float threshold = kDenseThresholdScale * g.reprojection_threshold;
-  const std::vector<float> e =
-      dense_flow_.residuals(j.keypoints, j.cur_depth, camera_, motion, p_.motion.depth_edge_ratio);
+  const float threshold = float(p_.dense_threshold_scale) * g.reprojection_threshold;
+  const std::vector<float> e = memory_.dense_flow.residuals(j.keypoints, j.cur_depth, camera_,
+                                                            motion, p_.motion.depth_edge_ratio);
   std::size_t n = 0;
-  for (std::size_t k = 0; k < e.size() && k < dynamic.size(); ++k) {
-    if (dynamic[k] || !(e[k] > threshold)) continue;  // (NaN: no test)
-    dynamic[k] = 1;
+  for (std::size_t k = 0; k < e.size() && k < cues.size(); ++k) {
+    if ((cues[k] & kMotionCues) || !(e[k] > threshold)) continue;  // (NaN: no test)
+    cues[k] |= cue::kDenseFlow;
     ++n;
     cv::circle(mask_, j.keypoints[k].pt, p_.moving_point_radius_px + p_.mask_margin_px,
                cv::Scalar(255), cv::FILLED);

@@ -1,6 +1,7 @@
 #pragma once
-// The observation preprocessor that rejects features on moving objects.
-// Two independent cues, either or both (the ablation modes):
+// The observation preprocessor that labels keypoints on moving objects
+// (docs/dynamic_stage.md). Two sources of evidence, either or both (the
+// ablation modes):
 //  - detect: YOLO boxes of movable classes, restricted to the object's depth
 //    so the background seen through a box stays usable. The detector runs in
 //    its own thread (DetectorThread); its boxes are carried to each later
@@ -8,54 +9,57 @@
 //  - flow: the previous frame's keypoints tracked by LK into this frame and
 //    tested against the camera motion between the two frames' tracked
 //    poses (reprojection of the depth-backed point, epipolar distance
-//    without depth); flagged points grow to their depth-connected region,
-//    and the moving points are carried as seeds for a few frames.
+//    without depth); moving tracks grow to their depth-connected region and
+//    are carried as seeds for a few frames; a dense flow tests every
+//    depth-backed keypoint the same way.
+// Each source reports cues per keypoint (core/keypoint_labels.h) and one
+// policy (LabelPolicy) turns them into labels: static, moving or unsure.
+// Everything carried between frames lives in one MotionMemory.
 //
-// Why the motion check runs after tracking (two phases): where movers fill
-// the view, a camera motion fitted on the tracks themselves (RANSAC) takes
-// their motion for the camera's and flags the static scene. The tracker's
-// pose comes from the map, which movers cannot hijack that way. So
-//   1. prepare() and process(), before tracking, pre-flag the keypoints on
-//      the carried detector boxes (at the object's depth) and on the last
-//      judgement's moving points and regions (moved along by their flow);
-//   2. the tracker estimates the pose without the pre-flagged keypoints;
-//   3. frameTracked() classifies every track once under the tracker's
-//      motion: those flags replace the pre-flags for the keyframe decision
-//      and mapping (with the box surfaces of the boxes the detector still
-//      confirms, not of those carried on from a miss, and every keypoint
-//      that a dense flow field shows moving against that motion:
-//      DenseFlowResiduals), and their moving points seed the next frame.
-//      A keypoint whose nearest judged track within 1.5 track spacings
-//      moved makes no map point: a person's outline, where the verdicts end,
-//      stays out of the map. Keypoints in space where tracks were seen
-//      moving recently (MovedSpaceMemory) make no map point: an object that
-//      stops and moves on again (a parked trolley, a person who waits) never
-//      enters the map, so the tracker's pose cannot follow it when it
-//      leaves. A judgement that flags too many of the tracker's map inliers
-//      is vetoed: it flags nothing, and what it saw moving off the map's
-//      inliers makes no map point either.
-// A frame without a tracked pose (or after one) keeps its pre-flags.
+// Why the motion test runs after tracking (the phases of
+// ObservationPreprocessor): where movers fill the view, a camera motion
+// fitted on the tracks themselves (RANSAC) takes their motion for the
+// camera's and flags the static scene. The tracker's pose comes from the
+// map, which movers cannot hijack that way. So
+//   1. prepare() and label(), before tracking, label the keypoints on the
+//      carried detector boxes (at the object's depth) and on the last
+//      judgement's moving tracks and regions (moved along by their flow)
+//      moving: the prior;
+//   2. the tracker estimates the pose without them;
+//   3. judge() tests every track once under the tracker's motion: its labels
+//      replace the prior for the keyframe decision and mapping (with the box
+//      surfaces of the boxes the detector still confirms, not of those
+//      carried on from a miss, and every keypoint the dense flow shows
+//      moving). Doubt cues keep keypoints out of the map: the nearest judged
+//      track moved (a person's outline, where the verdicts end); a track of
+//      the previous frame is covered there (something came in front, not
+//      judged yet); the space was seen moving lately (MovedSpaceMemory: an
+//      object that stops and moves on never enters the map). A judgement
+//      that labels too many of the tracker's map inliers moving is vetoed
+//      by the map: the prior stays, and what the judgement saw moving off
+//      the map's inliers is unsure.
+// A frame without a tracked pose keeps its prior; one tracked after lost
+// frames is not judged (no camera motion), but moved space still counts.
 //
 // Cost: LK runs on at most max_flow_points keypoints of the previous frame
-// (keypoints carried as dynamic first), at half resolution by default; the
-// box carrying reuses those tracks. The dense flow adds 5-15 ms of CPU a
-// frame. Per-stage times: stageTimes(), logged at
-// exit at level debug (core/log.h), one line per frame at level trace.
-// DYNSLAM_DEBUG_DYNAMIC_DIR=DIR writes each frame's mask parts to
-// DIR/<frame>.png (blue: boxes, green: grown regions, red: all before the
-// margin dilation).
+// (carried moving points first), at half resolution; the box carrying
+// reuses those tracks. The dense flow adds 5-15 ms of CPU a frame.
+// Per-stage times: stageTimes(), logged at exit at level debug (core/log.h),
+// one line per frame at level trace. DYNSLAM_DEBUG_DYNAMIC_DIR=DIR writes
+// each frame's mask parts to DIR/<frame>.png (blue: boxes, green: grown
+// regions, red: all before the margin dilation) and its judged labels to
+// DIR/<frame>_labels.png.
 #include <map>
 #include <memory>
 #include <string>
 
 #include "core/camera.h"
 #include "core/observation_preprocessor.h"
-#include "dynamic/box_carrier.h"
-#include "dynamic/dense_flow_residuals.h"
 #include "dynamic/depth_masks.h"
 #include "dynamic/detector_thread.h"
+#include "dynamic/label_policy.h"
 #include "dynamic/motion_check.h"
-#include "dynamic/moved_space_memory.h"
+#include "dynamic/motion_memory.h"
 #include "dynamic/yolo_detector.h"
 
 namespace dynslam {
@@ -100,6 +104,25 @@ struct DynamicFilterParams {
   /// evidence) is not trusted: blur or a wrong pose, not movers; the frame
   /// keeps its pre-flags, and what it flagged off the map makes no map point.
   double max_map_inliers_flagged = 0.2;
+  /// The dense flow's test takes this many times the judgement's
+  /// reprojection threshold: DIS at half resolution is less precise than LK
+  /// on a keypoint (at 1.0 or 1.25 it labelled more than 8 % of rpy_close's
+  /// static keypoints moving).
+  double dense_threshold_scale = 1.5;
+  /// A keypoint whose nearest judged track within this many track spacings
+  /// (the image area per LK point) moved is unsure.
+  double moving_neighbour_spacings = 1.5;
+  /// A lost track of the previous frame is covered when the depth now
+  /// measured where the tracker's motion puts it is below this share of its
+  /// predicted depth (a surface in front; Kinect noise is ~3 % at 4 m, and
+  /// blur, which also loses tracks, leaves the depth where it was).
+  double covered_depth_ratio = 0.9;
+  /// The judgement keeps the surfaces of the boxes that one of the
+  /// detector's last this-many runs confirmed; a box carried on from more
+  /// misses mostly lost its person, and what of it still moves the motion
+  /// test finds. (The prior keeps every carried box.)
+  int confirming_runs = 2;
+  LabelPolicyParams labels;
   YoloDetectorParams detector;
   BoxDepthParams box_mask;
   BoxCarrierParams carrier;
@@ -115,53 +138,51 @@ class DynamicFeatureFilter : public ObservationPreprocessor {
   ~DynamicFeatureFilter() override;
 
   /// Phase 1, before feature extraction: LK of the last frame's points,
-  /// the carried detector boxes, and the pre-flag mask (CV_8U, 255 =
-  /// expected dynamic, margin included) that the extractor spends its
-  /// budget around and process() flags the keypoints on.
+  /// the carried detector boxes, and the prior mask (CV_8U, 255 = expected
+  /// moving, margin included) that the extractor spends its budget around.
+  /// std::logic_error unless frame.index is above the last frame's.
   cv::Mat prepare(const RGBDFrame& frame, const cv::Mat& gray) override;
-  /// Phase 2: flags the keypoints on the pre-flag mask (std::logic_error
-  /// unless prepare() ran for this frame).
-  void process(const RGBDFrame& frame, const cv::Mat& gray,
-               const std::vector<cv::KeyPoint>& keypoints, std::vector<uint8_t>& dynamic) override;
-  /// Judges the frame's tracked points under the tracker's camera motion
-  /// into it (when this frame and the one before have a pose): the new flags
-  /// replace the pre-flags of process() and seed the next frame. A frame
-  /// tracked after lost ones is not judged, but its keypoints in space seen
-  /// moving lately are unjudged all the same. Returns whether it judged
-  /// (and so rewrote `dynamic`).
-  bool frameTracked(std::size_t index, const TrackedPose& pose,
-                    std::vector<uint8_t>& dynamic) override;
-  /// The keypoints of the last judgement that no map point may be made
-  /// from: those that lie where the previous frame's tracks were lost
-  /// because something nearer now covers them (under the tracker's motion),
-  /// with no track surviving within one track spacing (the image area per
-  /// LK point): what came in front has not been judged (new view at the
-  /// image edge, or tracks lost to blur, are not); those whose nearest judged
-  /// track within 1.5 spacings moved; those in moved
-  /// space (MovedSpaceMemory); and, after a vetoed judgement, what it saw
-  /// moving off the map's inliers.
-  std::vector<uint8_t> unjudgedKeypoints() const override { return unjudged_; }
+  /// Phase 2: the prior's labels (std::logic_error unless prepare() ran
+  /// for this frame) and, with the flow, the tracks to judge.
+  PreLabels label(const RGBDFrame& frame, const cv::Mat& gray,
+                  const std::vector<cv::KeyPoint>& keypoints) override;
+  /// Phase 3: the labels under the tracker's camera motion into the frame
+  /// (when this frame and the one before have a pose), which also seed the
+  /// next frame; a frame tracked after lost ones is not judged, but its
+  /// keypoints in space seen moving lately are unsure all the same. nullopt:
+  /// the prior stays.
+  std::optional<KeypointLabels> judge(std::unique_ptr<PendingJudgement> pending,
+                                      const TrackedPose& pose) override;
 
-  /// Dynamic-pixel mask (CV_8U, 255 = dynamic) of the last processed frame;
-  /// after the judgement (frameTracked), its union with the pre-flags.
+  /// Dynamic-pixel mask (CV_8U, 255 = dynamic) of the last frame; after the
+  /// judgement, its union with the prior.
   const cv::Mat& lastMask() const { return mask_; }
-  /// Detector boxes (carried to the frame) used for the last processed frame.
+  /// Detector boxes (carried to the frame) used for the last frame.
   const std::vector<Detection>& lastBoxes() const { return boxes_now_; }
   std::size_t detectorRuns() const;
   /// CPU time (ms) of the detector's thread so far (0 without a detector).
   double detectorCpuMs();
-  /// Frames judged under the tracker's motion (frameTracked).
+  /// Frames judged under the tracker's motion.
   std::size_t judgedFrames() const { return judged_frames_; }
-  /// Judgements not used (max_map_inliers_flagged).
+  /// Judgements the map vetoed (max_map_inliers_flagged).
   std::size_t rejectedJudgements() const { return rejected_judgements_; }
-  /// Keypoints found unjudged so far (unjudgedKeypoints), over all frames.
-  std::size_t unjudgedKeypointCount() const { return unjudged_count_; }
-  /// Per-stage times (ms), one sample per processed frame: pyramid, lk,
-  /// boxes (carrying + box depth mask), total; and one per judged frame:
-  /// judge.
+  /// Keypoints labelled unsure so far, over all frames.
+  std::size_t unsureKeypointCount() const { return unsure_count_; }
+  /// Per cue (cue:: bit order), the keypoints it was seen at so far, in the
+  /// labels each frame ended with.
+  const std::vector<std::size_t>& cueCounts() const { return cue_counts_; }
+  /// Per-stage times (ms), one sample per frame: pyramid, lk, boxes
+  /// (carrying + box depth mask), total; and one per judged frame: judge.
   const std::map<std::string, std::vector<double>>& stageTimes() const { return times_; }
 
  private:
+  struct FrameToJudge;
+  /// Moving evidence as pixels, before the margin: grown regions, discs
+  /// around moving tracks, box surfaces. A keypoint within the margin of a
+  /// part has that part's cue.
+  struct MaskParts {
+    cv::Mat regions, tracks, boxes;
+  };
   /// One frame's motion evidence: the grown (or carried-forward) regions,
   /// the tracked points that moved or were carried, those carried on.
   struct MotionEvidence {
@@ -178,83 +199,69 @@ class DynamicFeatureFilter : public ObservationPreprocessor {
   /// age of each tracked point before it); ev.mask must be set first.
   void collectMoving(MotionEvidence& ev, const std::vector<cv::Point2f>& cur_points,
                      const std::vector<uint8_t>& tracked, const std::vector<uint8_t>& ages) const;
-  /// frameTracked(): classify the last frame's tracks under the tracker's motion.
-  /// False (flags unchanged) when the verdicts contradict the map: more
-  /// than max_map_inliers_flagged of the tracker's map inliers flagged; the
-  /// keypoints off the map's inliers that they flag are then unjudged, and
-  /// the moved space is held back all the same.
-  bool judge(const cv::Matx44d& prev_pose_wc, const TrackedPose& pose,
-             std::vector<uint8_t>& dynamic);
-  /// Lets the judged tracks vote in moved_space_: static, or moving inside a
-  /// region that passed the region vote.
-  void voteMovedSpace(const cv::Matx44d& pose_wc, const MotionResult& judged);
-  /// Marks the keypoints not flagged `dynamic` that lie in space seen moving
-  /// as unjudged (no map point from them); returns how many it marked. Also
-  /// after a rejected judgement: what earlier frames saw moving there does
-  /// not depend on this frame's verdicts.
-  std::size_t holdBackMovedSpace(const cv::Matx44d& pose_wc, const std::vector<uint8_t>& dynamic);
+  /// The judgement proper (both frames have a pose): cues under the
+  /// tracker's motion, or the vetoed judgement's doubt cues.
+  std::vector<uint16_t> judgeUnderMotion(FrameToJudge& j, const TrackedPose& pose);
+  /// Lets the judged tracks vote in the moved space: static, or moving
+  /// inside a region that passed the region vote.
+  void voteMovedSpace(const FrameToJudge& j, const cv::Matx44d& pose_wc,
+                      const MotionResult& judged);
+  /// Sets cue::kMovedSpace on the keypoints in space seen moving lately.
+  void cueMovedSpace(const FrameToJudge& j, const cv::Matx44d& pose_wc,
+                     std::vector<uint16_t>& cues);
   /// $DYNSLAM_DEBUG_DYNAMIC_DIR/<frame>.png: the mask's parts.
-  void writeDebugImage(const cv::Mat& box_mask, const cv::Mat& regions) const;
-  /// prev_motion_mask_ moved by the median flow of the carried points.
-  cv::Mat warpedMotionMask(const std::vector<cv::Point2f>& cur_points,
-                           const std::vector<uint8_t>& tracked) const;
+  void writeDebugImage(const MaskParts& parts) const;
+  /// $DYNSLAM_DEBUG_DYNAMIC_DIR/<frame>_labels.png: the judged labels.
+  void writeLabelImage(const FrameToJudge& j, const KeypointLabels& labels) const;
+  /// The last regions moved by the median flow of the carried points.
+  cv::Mat warpedRegions(const std::vector<cv::Point2f>& cur_points,
+                        const std::vector<uint8_t>& tracked) const;
   /// Depth masks of the boxes of this frame (empty without boxes).
   cv::Mat boxMask(const cv::Mat& depth, const std::vector<Detection>& boxes,
                   const std::vector<cv::Point2f>& carried) const;
-  /// mask_ = regions + discs around moving points + boxes, dilated by the margin.
-  void buildMask(const MotionEvidence& ev, const cv::Mat& box_mask);
-  /// Sets dynamic[i] = 1 for the keypoints on mask_; returns how many.
-  std::size_t flagOnMask(const std::vector<cv::KeyPoint>& keypoints,
-                         std::vector<uint8_t>& dynamic) const;
-  /// Sets dynamic[i] = 1 for the judged keypoints that the dense flow shows
-  /// moving against the judgement's camera motion (kDenseThresholdScale x
-  /// its reprojection threshold) and marks them on mask_ as moving points;
-  /// returns how many it added.
-  std::size_t flagOnDenseFlow(const MotionResult& judged, std::vector<uint8_t>& dynamic);
+  /// The parts of a frame's evidence; mask_ = their union, dilated by the margin.
+  MaskParts buildMask(const MotionEvidence& ev, const cv::Mat& box_mask);
+  /// Per keypoint, the cues of the parts within the margin of it.
+  std::vector<uint16_t> cuesOnMask(const std::vector<cv::KeyPoint>& keypoints,
+                                   const MaskParts& parts) const;
+  /// Sets cue::kDenseFlow on the keypoints without a motion cue that the
+  /// dense flow shows moving against the judgement's camera motion
+  /// (dense_threshold_scale x its reprojection threshold) and marks them on
+  /// mask_; returns how many.
+  std::size_t cueDenseFlow(const FrameToJudge& j, const MotionResult& judged,
+                           std::vector<uint16_t>& cues);
   void selectFlowPoints(const std::vector<cv::KeyPoint>& keypoints,
                         const std::vector<cv::Point2f>& carried,
                         const std::vector<uint8_t>& carried_age);
+  /// The labels a frame ends with: counted (cueCounts, unsureKeypointCount).
+  KeypointLabels finalLabels(std::vector<uint16_t> cues);
 
   DynamicFilterParams p_;
   PinholeCamera camera_;
+  LabelPolicy policy_;
   std::unique_ptr<DetectorThread> detector_;
   BoxDepthMasker box_masker_;
-  BoxCarrier carrier_;
   MotionConsistencyCheck motion_;
-  MovedSpaceMemory moved_space_;
-  DenseFlowResiduals dense_flow_;
-  MotionFrame prev_, cur_;
-  long prepared_frame_ = -1;              // frame prepare() ran for, until process()
-  std::vector<cv::Point2f> pre_carried_;  // prepare()'s carried points, for process()
+  MotionMemory memory_;
+  std::vector<cv::Point> margin_offsets_;  ///< the margin's disc, as pixel offsets
+  // Between prepare() and label() of one frame.
+  MotionFrame cur_;
+  bool prepared_ = false;
+  MaskParts prior_parts_;
+  std::unique_ptr<FrameToJudge> to_judge_;
+  std::vector<cv::Point2f> pre_carried_;
   std::vector<uint8_t> pre_carried_age_;
   double prepare_ms_ = 0;
-  std::vector<cv::Point2f> prev_points_;
-  // Per prev point: frames left to carry it as dynamic (0 = a plain keypoint).
-  std::vector<uint8_t> prev_age_;
-  bool have_prev_ = false;
-  cv::Mat prev_motion_mask_;  // motion regions of the previous frame's last judgement
-  long frame_ = -1;           // index of the frame prepare() last saw (frames may skip indices)
   // The moved-space memory drops its stale cells once per this many frames
   // (only to keep it small: no verdict depends on when).
   static constexpr long kForgetPeriodFrames = 100;
-  long forgotten_period_ = -1;
   cv::Mat mask_;
   std::vector<Detection> boxes_now_;
   std::map<std::string, std::vector<double>> times_;
   // $DYNSLAM_DEBUG_DYNAMIC_DIR: per-frame PNG of the mask's parts (diagnostics).
   std::string debug_dir_;
-  cv::Mat undilated_;
-  // What process() saw of this frame, for judge().
-  struct Judgement {
-    long frame = -1;
-    std::vector<cv::Point2f> prev_points, cur_points;
-    std::vector<uint8_t> prev_age, tracked;
-    cv::Mat prev_depth, cur_depth, box_mask;
-    std::vector<Detection> boxes;
-    std::vector<cv::KeyPoint> keypoints;
-  } judge_;
-  std::vector<uint8_t> unjudged_;  ///< of the last judgement (unjudgedKeypoints)
-  std::size_t unjudged_count_ = 0;
+  std::vector<std::size_t> cue_counts_ = std::vector<std::size_t>(cue::kCount, 0);
+  std::size_t unsure_count_ = 0;
   std::size_t judged_frames_ = 0;
   std::size_t rejected_judgements_ = 0;
 };

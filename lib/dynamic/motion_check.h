@@ -50,7 +50,7 @@
 // Why a known motion (classify(..., known)): where movers fill the view, the
 // frame-to-frame RANSAC fit can lock onto them and flag the static scene.
 // The tracker's pose comes from the map instead; DynamicFeatureFilter judges
-// every tracked frame under it (its frameTracked phase).
+// every tracked frame under it (its judge phase).
 //
 // Per frame (the lead's pipeline):
 //   MotionFrame cur = check.makeFrame(gray, depth);          // pyramid built once

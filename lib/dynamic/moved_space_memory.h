@@ -9,7 +9,7 @@
 // follows the object. The motion check did see it move before it stopped,
 // at the place where it stopped; keypoints that land in space seen moving
 // within the last `memory_frames` frames stay out of the map (they are
-// still matched to the map, like FeatureSet::unjudged keypoints).
+// still matched to the map: they are labelled unsure).
 //
 // Why a vote: single moving tracks on the static scene (blur, depth edges)
 // are common enough that over a few hundred frames they would touch most

@@ -1,6 +1,7 @@
 #include "eval/keypoint_truth_scorer.h"
 
 #include "core/atomic_file.h"
+#include "core/keypoint_labels.h"
 #include "core/truth_masks.h"
 
 namespace dynslam {
@@ -14,9 +15,11 @@ void KeypointTruthScorer::addFrame(const std::string& rgb_source, cv::Size image
                                    const std::vector<cv::Point2f>& points,
                                    const std::vector<uint8_t>& flags,
                                    const std::vector<uint8_t>& flags_before_tracking,
-                                   const std::vector<cv::Rect2f>& person_boxes) {
+                                   const std::vector<cv::Rect2f>& person_boxes,
+                                   const std::vector<uint16_t>& cues) {
   const cv::Mat gt = loadTruthMask(truthMaskPath(masks_dir_, rgb_source), image_size);
-  frames_.push_back(scoreKeypoints(points, flags, gt, kMarginPx, &person_boxes));
+  frames_.push_back(scoreKeypoints(points, flags, gt, kMarginPx, &person_boxes, 0.01,
+                                   cues.empty() ? nullptr : &cues));
   total_ += frames_.back();
   before_tracking_ += flags_before_tracking.empty() ? frames_.back()
                                                     : scoreKeypoints(points, flags_before_tracking,
@@ -43,6 +46,17 @@ void KeypointTruthScorer::writeJson(JsonWriter& w) const {
       .value("standing_points", total_.standing_points)
       .value("standing_flagged", total_.standing_flagged)
       .value("standing_rejection_rate", total_.standingRejectionRate());
+  // Per cue: the flagged static and walker keypoints it was seen at, and
+  // those it was the only motion cue at.
+  w.beginObject("flagged_by_cue");
+  for (int b = 0; b < cue::kCount; ++b)
+    w.beginObject(cue::name(b))
+        .value("static", total_.static_flagged_by_cue[b])
+        .value("static_only", total_.static_flagged_only_cue[b])
+        .value("walker", total_.walker_flagged_by_cue[b])
+        .value("walker_only", total_.walker_flagged_only_cue[b])
+        .endObject();
+  w.endObject();
   // The scores above are of the final flags (what mapping uses); tracking
   // used these, before the frames the tracker's pose revised.
   w.beginObject("before_tracking")

@@ -24,13 +24,15 @@ class KeypointTruthScorer {
 
   /// Scores one frame: `flags` are the final dynamic flags of `points`,
   /// `flags_before_tracking` those tracking used (empty: the same),
-  /// `person_boxes` the detected person boxes of the frame. Throws
+  /// `person_boxes` the detected person boxes of the frame, `cues` the
+  /// dynamic stage's cues per point (empty: none). Throws
   /// InputError naming the mask when it is missing, not 8-bit single
   /// channel or not of `image_size`.
   void addFrame(const std::string& rgb_source, cv::Size image_size,
                 const std::vector<cv::Point2f>& points, const std::vector<uint8_t>& flags,
                 const std::vector<uint8_t>& flags_before_tracking,
-                const std::vector<cv::Rect2f>& person_boxes);
+                const std::vector<cv::Rect2f>& person_boxes,
+                const std::vector<uint16_t>& cues = {});
 
   const std::string& masksDir() const { return masks_dir_; }
   const MaskScore& total() const { return total_; }
@@ -46,7 +48,7 @@ class KeypointTruthScorer {
  private:
   std::string masks_dir_;
   MaskScore total_;
-  MaskScore before_tracking_;  ///< the flags tracking used (before frameTracked's revision)
+  MaskScore before_tracking_;  ///< the flags tracking used (before the judgement's revision)
   std::vector<MaskScore> frames_;
 };
 

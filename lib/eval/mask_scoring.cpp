@@ -6,7 +6,12 @@
 #include <limits>
 #include <stdexcept>
 
+#include "core/keypoint_labels.h"
+
 namespace dynslam {
+namespace {
+constexpr uint16_t kMotionCueBits = cue::kBox | cue::kRegion | cue::kMovingTrack | cue::kDenseFlow;
+}  // namespace
 namespace {
 double ratio(int a, int b) {
   return b > 0 ? double(a) / b : std::numeric_limits<double>::quiet_NaN();
@@ -32,15 +37,21 @@ MaskScore& MaskScore::operator+=(const MaskScore& o) {
   boundary_flagged += o.boundary_flagged;
   static_in_unmasked_box += o.static_in_unmasked_box;
   static_in_unmasked_box_flagged += o.static_in_unmasked_box_flagged;
+  for (int b = 0; b < kCueBits; ++b) {
+    static_flagged_by_cue[b] += o.static_flagged_by_cue[b];
+    static_flagged_only_cue[b] += o.static_flagged_only_cue[b];
+    walker_flagged_by_cue[b] += o.walker_flagged_by_cue[b];
+    walker_flagged_only_cue[b] += o.walker_flagged_only_cue[b];
+  }
   return *this;
 }
 
 MaskScore scoreKeypoints(const std::vector<cv::Point2f>& points,
                          const std::vector<uint8_t>& dynamic_flags, const cv::Mat& gt_mask,
                          int margin_px, const std::vector<cv::Rect2f>* person_boxes,
-                         double unmasked_overlap) {
-  if (points.size() != dynamic_flags.size())
-    throw std::invalid_argument("scoreKeypoints: points and flags differ in size");
+                         double unmasked_overlap, const std::vector<uint16_t>* cues) {
+  if (points.size() != dynamic_flags.size() || (cues && cues->size() != points.size()))
+    throw std::invalid_argument("scoreKeypoints: points, flags and cues differ in size");
   if (gt_mask.empty() || gt_mask.type() != CV_8UC1)
     throw std::invalid_argument("scoreKeypoints: the mask must be a non-empty CV_8UC1 image");
   if (margin_px < 0) throw std::invalid_argument("scoreKeypoints: negative margin");
@@ -76,15 +87,26 @@ MaskScore scoreKeypoints(const std::vector<cv::Point2f>& points,
     const int x = int(std::lround(points[i].x)), y = int(std::lround(points[i].y));
     if (x < 0 || y < 0 || x >= gt_mask.cols || y >= gt_mask.rows) continue;
     const bool f = dynamic_flags[i] != 0;
+    // The cues of a flagged point: each one, and the only motion cue.
+    auto countCues = [&](std::array<int, MaskScore::kCueBits>& by,
+                         std::array<int, MaskScore::kCueBits>& only) {
+      if (!f || !cues) return;
+      const uint16_t c = (*cues)[i];
+      for (int b = 0; b < MaskScore::kCueBits; ++b) by[b] += (c >> b) & 1;
+      const uint16_t motion = c & kMotionCueBits;
+      if (motion && !(motion & (motion - 1))) ++only[std::size_t(__builtin_ctz(motion))];
+    };
     if (walker_core.at<uint8_t>(y, x)) {
       ++s.walker_points;
       s.walker_flagged += f;
+      countCues(s.walker_flagged_by_cue, s.walker_flagged_only_cue);
     } else if (standing_core.at<uint8_t>(y, x)) {
       ++s.standing_points;
       s.standing_flagged += f;
     } else if (!person_zone.at<uint8_t>(y, x)) {
       ++s.static_points;
       s.static_flagged += f;
+      countCues(s.static_flagged_by_cue, s.static_flagged_only_cue);
       for (const auto& r : unmasked)
         if (r.contains(cv::Point(x, y))) {
           ++s.static_in_unmasked_box;

@@ -18,6 +18,7 @@
 // so the false-rejection rate can be reported with and without them.
 #include <opencv2/core.hpp>
 
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -36,6 +37,13 @@ struct MaskScore {
   /// overlaps no composite person (the real seated person of fr1_rpy).
   int static_in_unmasked_box = 0;
   int static_in_unmasked_box_flagged = 0;
+  /// With the dynamic stage's cues (scoreKeypoints' `cues`): per cue bit,
+  /// the flagged static / walker keypoints that cue was seen at, and those
+  /// it was the only one of the four motion cues at (what dropping that cue
+  /// alone would unflag).
+  static constexpr int kCueBits = 16;
+  std::array<int, kCueBits> static_flagged_by_cue{}, static_flagged_only_cue{};
+  std::array<int, kCueBits> walker_flagged_by_cue{}, walker_flagged_only_cue{};
 
   /// walker_flagged / walker_points (NaN when no walker point).
   double recall() const;
@@ -52,11 +60,13 @@ struct MaskScore {
 /// against `gt_mask` (CV_8UC1, see above). Points outside the image are skipped.
 /// person_boxes (optional): detected person boxes of the frame; a box counts as
 /// "unmasked" when at most unmasked_overlap of its area is composite person
-/// (mask > 0). Throws std::invalid_argument on mismatched sizes, a mask that
-/// is not CV_8UC1, or a negative margin.
+/// (mask > 0). cues (optional, one per point): the dynamic stage's cue bits
+/// (core/keypoint_labels.h), counted per cue for flagged points. Throws std::invalid_argument on
+/// mismatched sizes, a mask that is not CV_8UC1, or a negative margin.
 MaskScore scoreKeypoints(const std::vector<cv::Point2f>& points,
                          const std::vector<uint8_t>& dynamic_flags, const cv::Mat& gt_mask,
                          int margin_px = 3, const std::vector<cv::Rect2f>* person_boxes = nullptr,
-                         double unmasked_overlap = 0.01);
+                         double unmasked_overlap = 0.01,
+                         const std::vector<uint16_t>* cues = nullptr);
 
 }  // namespace dynslam

@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 namespace dynslam {
 
@@ -101,6 +103,29 @@ void FeatureSet::finalize(const cv::Mat& depth_raw, const cv::Mat& rgb) {
     ur[i] = static_cast<float>(keys_un[i].pt.x - c.proj.bf / d);
   }
   buildGrids();
+}
+
+void FeatureSet::setLabels(const KeypointLabels& labels) {
+  if (labels.size() != keys.size())
+    throw std::invalid_argument("FeatureSet::setLabels: " + std::to_string(labels.size()) +
+                                " labels for " + std::to_string(keys.size()) + " keypoints");
+  dynamic.assign(keys.size(), 0);
+  unsure.clear();
+  for (std::size_t i = 0; i < keys.size(); ++i) {
+    dynamic[i] = labels.moving(i);
+    if (labels.unsure(i)) {
+      unsure.resize(keys.size(), 0);
+      unsure[i] = 1;
+    }
+  }
+  cues = labels.cues;
+}
+
+std::shared_ptr<const FeatureSet> FeatureSet::withLabels(const KeypointLabels& labels) const {
+  auto out = std::make_shared<FeatureSet>(*this);
+  out->setLabels(labels);
+  out->buildGrids();
+  return out;
 }
 
 void FeatureSet::buildGrids() {

@@ -9,6 +9,7 @@
 #include <memory>
 #include <vector>
 
+#include "core/keypoint_labels.h"
 #include "map/frame_context.h"
 
 namespace dynslam {
@@ -25,13 +26,16 @@ struct FeatureSet {
   cv::Mat descriptors;                ///< N x 32, CV_8UC1
   std::vector<float> depth;           ///< metres; <= 0: no valid depth
   std::vector<float> ur;              ///< virtual right u; < 0: no depth
-  std::vector<uint8_t> dynamic;       ///< 1: on a moving object, ignored by SLAM
-  /// 1: no motion evidence judged this keypoint yet (it lies where the
-  /// previous frame had nothing to track: an object entering the view, or
-  /// the edge the camera turns towards). Tracking may match it to map
-  /// points; no new map point is made from it, so whatever enters the view
-  /// is judged once before it can enter the map. Empty: all judged.
-  std::vector<uint8_t> unjudged;
+  std::vector<uint8_t> dynamic;       ///< 1: labelled moving, ignored by SLAM
+  /// 1: labelled unsure (KeypointLabel::kUnsure): tracking may match it to
+  /// map points, but no new map point is made from it, so that what the
+  /// dynamic stage cannot vouch for (just came into view, lies where
+  /// something moved lately) is judged before it can enter the map.
+  /// Empty: none.
+  std::vector<uint8_t> unsure;
+  /// The dynamic stage's cues per keypoint (cue:: bits of keypoint_labels.h;
+  /// empty without that stage): for counts and debugging only.
+  std::vector<uint16_t> cues;
   std::vector<cv::Vec3b> colors;  ///< BGR at each keypoint (for map exports)
   /// Keypoint indices per grid cell (static keypoints only).
   std::vector<std::vector<int>> grid;
@@ -40,7 +44,7 @@ struct FeatureSet {
   std::vector<std::vector<int>> dynamic_grid;
 
   std::size_t size() const { return keys.size(); }
-  bool isUnjudged(std::size_t i) const { return i < unjudged.size() && unjudged[i]; }
+  bool isUnsure(std::size_t i) const { return i < unsure.size() && unsure[i]; }
   const uint8_t* descriptor(std::size_t i) const {
     return descriptors.ptr<uint8_t>(static_cast<int>(i));
   }
@@ -58,8 +62,14 @@ struct FeatureSet {
   /// matcher ever sees them; they go to `dynamic_grid`).
   /// rgb (BGR, optional) gives the keypoint colours.
   void finalize(const cv::Mat& depth_raw, const cv::Mat& rgb = cv::Mat());
-  /// (Re)builds grid and dynamic_grid from keys_un and dynamic: after
-  /// finalize, when the dynamic flags change.
+  /// A copy labelled `labels` (one per keypoint: moving -> dynamic, unsure
+  /// -> unsure, and their cues), grids rebuilt: the tracker's committed
+  /// features when the dynamic stage revised its labels under the pose.
+  std::shared_ptr<const FeatureSet> withLabels(const KeypointLabels& labels) const;
+  /// Sets dynamic, unsure and cues from `labels` (after finalize: then
+  /// rebuild the grids).
+  void setLabels(const KeypointLabels& labels);
+  /// (Re)builds grid and dynamic_grid from keys_un and dynamic.
   void buildGrids();
 
  private:

@@ -216,8 +216,8 @@ std::vector<std::pair<int, int>> FeatureMatcher::searchForTriangulation(const Ke
   std::vector<int> match1(f1.size(), -1);
   RotationHistogram hist;
   for (std::size_t i = 0; i < f1.size(); ++i) {
-    // Not judged yet (FeatureSet::unjudged): no new point from k1's side.
-    if (k1.points[i] || f1.dynamic[i] || f1.isUnjudged(i)) continue;
+    // Labelled unsure (FeatureSet::unsure): no new point from k1's side.
+    if (k1.points[i] || f1.dynamic[i] || f1.isUnsure(i)) continue;
     // RGB-D: keypoints with a reliable depth already made map points.
     if (f1.depth[i] > 0 && f1.depth[i] < ctx.close_depth) continue;
     const cv::KeyPoint& kp1 = f1.keys_un[i];

@@ -36,8 +36,8 @@ class FeatureMatcher {
   int searchByDescriptor(const KeyFrame& kf, Frame& cur) const;
 
   /// Pairs of unmatched keypoints of k1 and k2 (without map points) that
-  /// satisfy the epipolar constraint, for triangulation (k1's unjudged
-  /// keypoints left out: FeatureSet::unjudged).
+  /// satisfy the epipolar constraint, for triangulation (k1's unsure
+  /// keypoints left out: FeatureSet::unsure).
   std::vector<std::pair<int, int>> searchForTriangulation(const KeyFrame& k1,
                                                           const KeyFrame& k2) const;
 

@@ -130,7 +130,7 @@ RunSummary runSlam(const RunOptions& opt) {
         for (const Detection& d : filter->lastBoxes())
           if (d.dynamic_class) person_boxes.push_back(d.box);
       truth->addFrame(frame.rgb_source, frame.rgb.size(), pts, out.features->dynamic,
-                      out.dynamic_before_tracking, person_boxes);
+                      out.dynamic_before_tracking, person_boxes, out.features->cues);
     }
     if (filter) {
       std::size_t flagged = 0;

@@ -110,9 +110,13 @@ std::string runReportJson(const RunReportInputs& in) {
         .value("detector_runs", in.filter->detectorRuns())
         .value("judged_frames", in.filter->judgedFrames())
         .value("rejected_judgements", in.filter->rejectedJudgements())
-        .value("unjudged_keypoints", in.filter->unjudgedKeypointCount())
-        .value("keyframe_masks", in.record.keyFrameMasks())
-        .endObject();
+        .value("unsure_keypoints", in.filter->unsureKeypointCount())
+        .value("keyframe_masks", in.record.keyFrameMasks());
+    // Keypoints each cue was seen at, in the labels the frames ended with.
+    w.beginObject("cues");
+    for (int b = 0; b < cue::kCount; ++b)
+      w.value(cue::name(b), in.filter->cueCounts()[std::size_t(b)]);
+    w.endObject().endObject();
   }
   if (in.truth) in.truth->writeJson(w);
   w.beginObject("timing_ms");

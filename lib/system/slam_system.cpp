@@ -76,15 +76,21 @@ FrameOutcome SlamSystem::process(const RGBDFrame& frame) {
     gray_ = frame.rgb;
   auto feats = std::make_shared<FeatureSet>();
   feats->ctx = ctx_;
-  // The preprocessor's expected movers first, so that the extractor spends
-  // its budget on the static part of the frame.
+  // The chain of ObservationPreprocessor's phases: the prior (where movers
+  // are expected: the extractor spends its budget elsewhere), extraction,
+  // the labels before tracking, the pose, the labels under the pose, and
+  // the tracker's commit.
   cv::Mat expected_dynamic;
   if (preprocessor_) expected_dynamic = preprocessor_->prepare(frame, gray_);
   const auto tp = Clock::now();
   orb_.extract(gray_, feats->keys, feats->descriptors, expected_dynamic);
   const auto t1 = Clock::now();
   feats->dynamic.assign(feats->keys.size(), 0);
-  if (preprocessor_) preprocessor_->process(frame, gray_, feats->keys, feats->dynamic);
+  PreLabels pre;
+  if (preprocessor_) {
+    pre = preprocessor_->label(frame, gray_, feats->keys);
+    feats->setLabels(pre.labels);
+  }
   const auto t2 = Clock::now();
   feats->finalize(frame.depth, frame.rgb);
 
@@ -97,14 +103,10 @@ FrameOutcome SlamSystem::process(const RGBDFrame& frame) {
   mapper_->waitForFrame(frame_id);
   const auto tw = Clock::now();
   {
-    // Three phases: the pose from the map; the preprocessor's revision of
-    // the flags under that pose (ObservationPreprocessor::frameTracked);
-    // the keyframe decision on the revised flags.
     std::lock_guard<std::mutex> lk(map_.mutex());
     const TrackResult pose = tracker_->estimatePose(feats, frame.index, frame.timestamp);
-    bool changed = false;
+    std::shared_ptr<const FeatureSet> revised;
     if (preprocessor_) {
-      std::vector<uint8_t> before = feats->dynamic;
       TrackedPose tracked;
       tracked.has_pose = pose.has_pose;
       if (pose.has_pose) {
@@ -113,16 +115,14 @@ FrameOutcome SlamSystem::process(const RGBDFrame& frame) {
         tracked.has_last_pose = pose.has_last_pose;
         if (pose.has_last_pose) tracked.last_pose_wc = toMatx(pose.last_pose_wc);
       }
-      if (preprocessor_->frameTracked(frame.index, tracked, feats->dynamic)) {
-        out.dynamic_before_tracking = std::move(before);
-        feats->buildGrids();
-        changed = true;
+      if (std::optional<KeypointLabels> labels =
+              preprocessor_->judge(std::move(pre.pending), tracked)) {
+        revised = feats->withLabels(*labels);
+        out.features = revised;
+        out.dynamic_before_tracking = feats->dynamic;
       }
-      // Also when the flags stay: what the preprocessor cannot vouch for
-      // (space seen moving lately) makes no map point either way.
-      feats->unjudged = preprocessor_->unjudgedKeypoints();
     }
-    out.track = tracker_->finishFrame(changed);
+    out.track = tracker_->finishFrame(std::move(revised));
   }
   mapper_->frameTracked(frame_id);
   const auto t3 = Clock::now();

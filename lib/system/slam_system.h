@@ -23,9 +23,10 @@ namespace dynslam {
 
 struct FrameOutcome {
   TrackResult track;
-  std::shared_ptr<const FeatureSet> features;  ///< with the final dynamic flags
-  /// The flags tracking used, when the preprocessor revised them after the
-  /// pose was known (ObservationPreprocessor::frameTracked); else empty.
+  std::shared_ptr<const FeatureSet> features;  ///< with the labels the tracker committed
+  /// The moving flags tracking used, when the preprocessor revised the
+  /// labels after the pose was known (ObservationPreprocessor::judge); else
+  /// empty.
   std::vector<uint8_t> dynamic_before_tracking;
 };
 

@@ -91,14 +91,20 @@ TrackResult Tracker::estimatePose(std::shared_ptr<const FeatureSet> features, st
   return pending_;
 }
 
-TrackResult Tracker::finishFrame(bool flags_changed) {
+TrackResult Tracker::finishFrame(std::shared_ptr<const FeatureSet> revised) {
   if (!pending_open_) throw std::logic_error("Tracker::finishFrame without estimatePose");
   pending_open_ = false;
   TrackResult res = pending_;
-  // A keyframe already (the map's first frame): made from the flags it came
+  const bool relabelled = revised != nullptr;
+  if (revised) {
+    if (revised->size() != cur_.size())
+      throw std::logic_error("Tracker::finishFrame: revised features of another frame");
+    cur_.features = std::move(revised);
+  }
+  // A keyframe already (the map's first frame): made from the labels it came
   // with, nothing left to decide.
   if (!res.new_keyframe && res.has_pose) {
-    if (flags_changed) dropMatchesOnDynamic();
+    if (relabelled) dropMatchesOnDynamic();
     if (!frozen_ && needNewKeyFrame()) {
       createKeyFrame();
       res.new_keyframe = true;
@@ -164,7 +170,7 @@ bool Tracker::initialize() {
 std::vector<int> Tracker::pointsFromDepth(const FeatureSet& f) const {
   std::vector<std::pair<float, int>> by_depth;
   for (std::size_t i = 0; i < f.size(); ++i)
-    if (f.depth[i] > 0 && !f.dynamic[i] && !f.isUnjudged(i))
+    if (f.depth[i] > 0 && !f.dynamic[i] && !f.isUnsure(i))
       by_depth.emplace_back(f.depth[i], static_cast<int>(i));
   std::sort(by_depth.begin(), by_depth.end());
   std::vector<int> out;
@@ -467,7 +473,7 @@ bool Tracker::needNewKeyFrame() const {
   const FeatureSet& f = cur_.f();
   int close_tracked = 0, close_untracked = 0;
   for (std::size_t i = 0; i < f.size(); ++i) {
-    if (f.dynamic[i] || f.isUnjudged(i) || f.depth[i] <= 0 || f.depth[i] >= f.ctx->close_depth)
+    if (f.dynamic[i] || f.isUnsure(i) || f.depth[i] <= 0 || f.depth[i] >= f.ctx->close_depth)
       continue;
     if (isMapInlier(i))
       ++close_tracked;

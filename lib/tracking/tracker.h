@@ -69,17 +69,17 @@ class Tracker {
           const PoseOptimizerParams& optim = {});
   ~Tracker();
 
-  /// Tracking in two phases, so that the frame's dynamic flags can be
-  /// revised once its pose is known (ObservationPreprocessor::frameTracked):
-  /// estimatePose() finds the pose from the map; finishFrame() then drops
-  /// the matches on keypoints that have become dynamic (flags_changed),
-  /// decides on a keyframe (made from the revised flags) and records the
-  /// pose. `features` must be finalised (FeatureSet::finalize) and may have
-  /// its `dynamic` flags changed in between (then rebuild its grids). On the
-  /// frame that initialises the map the keyframe is made in estimatePose().
+  /// Tracking in two phases, so that the frame's labels can be revised
+  /// once its pose is known (ObservationPreprocessor::judge): estimatePose()
+  /// finds the pose from the map; finishFrame() commits the frame: with
+  /// `revised` (the same keypoints relabelled, FeatureSet::withLabels) it
+  /// drops the matches on keypoints now moving; it decides on a keyframe
+  /// (made from the committed labels) and records the pose. `features` must
+  /// be finalised (FeatureSet::finalize). On the frame that initialises the
+  /// map the keyframe is made in estimatePose().
   TrackResult estimatePose(std::shared_ptr<const FeatureSet> features, std::size_t index,
                            double timestamp);
-  TrackResult finishFrame(bool flags_changed);
+  TrackResult finishFrame(std::shared_ptr<const FeatureSet> revised = nullptr);
   /// The id the next estimatePose() gives its frame (keyframes' frame_id).
   long nextFrameId() const { return next_frame_id_; }
   /// After estimatePose(): per keypoint, 1 = matched to a map point and an
@@ -134,7 +134,7 @@ class Tracker {
   void searchLocalPoints();
   bool needNewKeyFrame() const;
   void createKeyFrame();
-  /// After the flags changed between the phases: matches on keypoints now dynamic go,
+  /// After the labels were revised between the phases: matches on keypoints now moving go,
   /// and inliers_ is recounted.
   void dropMatchesOnDynamic();
   /// Keypoint i of the current frame is matched to a map point (one with

@@ -1,7 +1,7 @@
 // DynamicFeatureFilter as a whole (mode flow, no detector: objects of no
 // detector class) on synthetic sequences with known geometry, run in its
-// two phases as SlamSystem runs it: prepare() and process() before tracking,
-// frameTracked() with the tracker's pose after. The poses given are the true
+// phases as SlamSystem runs them: prepare() and label() before tracking,
+// judge() with the tracker's pose after. The poses given are the true
 // ones (a camera sliding along x), so the judgement's verdicts can be checked
 // against the known movers.
 #include <gtest/gtest.h>
@@ -12,6 +12,8 @@
 
 #include <array>
 #include <functional>
+#include <map>
+#include <optional>
 #include <vector>
 
 #include "dynamic/dynamic_feature_filter.h"
@@ -152,19 +154,41 @@ TrackedPose posed(std::size_t k) {
 }
 
 struct Phases {
-  std::vector<uint8_t> pre, judged;  ///< flags before and after frameTracked
-  bool changed = false;
+  std::vector<uint8_t> pre, judged;  ///< moving before and after the judgement
+  std::vector<uint8_t> unsure;       ///< after the judgement (empty: the prior stayed)
+  bool changed = false;              ///< judged under the motion (the prior replaced)
 };
 
-// Both phases of frame k; `pose` as the tracker would report it.
+std::vector<uint8_t> movingOf(const KeypointLabels& l) {
+  std::vector<uint8_t> m(l.size());
+  for (std::size_t i = 0; i < l.size(); ++i) m[i] = l.moving(i);
+  return m;
+}
+
+// The unsure keypoints of each filter's last step.
+std::map<const DynamicFeatureFilter*, std::vector<uint8_t>>& lastUnsure() {
+  static std::map<const DynamicFeatureFilter*, std::vector<uint8_t>> m;
+  return m;
+}
+const std::vector<uint8_t>& unsureOf(const DynamicFeatureFilter& f) { return lastUnsure()[&f]; }
+
+// The phases of frame k as SlamSystem runs them; `pose` as the tracker
+// would report it.
 Phases step(DynamicFeatureFilter& filter, const Sequence& s, std::size_t k,
             const TrackedPose& pose) {
   Phases p;
-  p.pre.assign(s.keypoints[k].size(), 0);
   filter.prepare(s.frames[k], s.gray[k]);
-  filter.process(s.frames[k], s.gray[k], s.keypoints[k], p.pre);
-  p.judged = p.pre;
-  p.changed = filter.frameTracked(k, pose, p.judged);
+  PreLabels pre = filter.label(s.frames[k], s.gray[k], s.keypoints[k]);
+  p.pre = movingOf(pre.labels);
+  const std::size_t judged_before = filter.judgedFrames();
+  const std::optional<KeypointLabels> revised = filter.judge(std::move(pre.pending), pose);
+  p.changed = filter.judgedFrames() > judged_before;
+  p.judged = revised ? movingOf(*revised) : p.pre;
+  if (revised) {
+    p.unsure.resize(revised->size());
+    for (std::size_t i = 0; i < revised->size(); ++i) p.unsure[i] = revised->unsure(i);
+  }
+  lastUnsure()[&filter] = p.unsure;
   return p;
 }
 
@@ -311,7 +335,7 @@ TEST(DynamicFeatureFilterTwoPhases, WhatAVetoedJudgementSawMovingMakesNoMapPoint
   ASSERT_FALSE(p.changed);
   EXPECT_EQ(p.judged, p.pre);
   EXPECT_EQ(filter.rejectedJudgements(), 1u);
-  const std::vector<uint8_t> u = filter.unjudgedKeypoints();
+  const std::vector<uint8_t> u = unsureOf(filter);
   const cv::Rect inner = grown(late_mover(int(k)), -3);
   int late = 0, late_held = 0, wall = 0, wall_mappable = 0;
   for (std::size_t i = 0; i < s.keypoints[k].size(); ++i) {
@@ -335,14 +359,13 @@ cv::Rect crowd(int k);
 Sequence makeCrowdSequence();
 Shares scoreCrowd(const std::vector<cv::KeyPoint>& kps, const std::vector<uint8_t>& dyn, int k);
 
-TEST(DynamicFeatureFilterTwoPhases, ProcessWithoutPrepareIsALogicError) {
+TEST(DynamicFeatureFilterTwoPhases, LabelWithoutPrepareIsALogicError) {
   const Sequence s = makeSequence();
   DynamicFeatureFilter filter(flowOnly(), test::sceneCamera());
-  std::vector<uint8_t> dyn(s.keypoints[0].size(), 0);
-  EXPECT_THROW(filter.process(s.frames[0], s.gray[0], s.keypoints[0], dyn), std::logic_error);
+  EXPECT_THROW(filter.label(s.frames[0], s.gray[0], s.keypoints[0]), std::logic_error);
   filter.prepare(s.frames[0], s.gray[0]);
-  filter.process(s.frames[0], s.gray[0], s.keypoints[0], dyn);
-  EXPECT_THROW(filter.process(s.frames[0], s.gray[0], s.keypoints[0], dyn), std::logic_error);
+  filter.label(s.frames[0], s.gray[0], s.keypoints[0]);
+  EXPECT_THROW(filter.label(s.frames[0], s.gray[0], s.keypoints[0]), std::logic_error);
 }
 
 // A walker filling most of the view (250 x 190 of 320 x 240 px, 1.5 m away,
@@ -459,7 +482,7 @@ TEST(DynamicFeatureFilterTwoPhases, KeypointsOfWhatEntersTheViewAreUnjudgedOnce)
   // Shares of the keypoints inside the patch / on the wall clear of it that
   // may become map points (judged and not flagged), and inside it unjudged.
   auto mappable = [&](std::size_t k, const std::vector<uint8_t>& dynamic) {
-    const std::vector<uint8_t> u = filter.unjudgedKeypoints();
+    const std::vector<uint8_t> u = unsureOf(filter);
     EXPECT_EQ(u.size(), s.keypoints[k].size());
     const cv::Rect inner(at(int(k)).x + 10, at(int(k)).y + 10, 80, 80);
     const cv::Rect outer(at(int(k)).x - 15, at(int(k)).y - 15, 130, 130);
@@ -478,7 +501,7 @@ TEST(DynamicFeatureFilterTwoPhases, KeypointsOfWhatEntersTheViewAreUnjudgedOnce)
                                  double(in_unjudged) / std::max(1, in)};
   };
   step(filter, s, 0, posed(0));
-  EXPECT_TRUE(filter.unjudgedKeypoints().empty()) << "nothing judged in the first frame";
+  EXPECT_TRUE(unsureOf(filter).empty()) << "nothing judged in the first frame";
   step(filter, s, 1, posed(1));
   const Phases entering = step(filter, s, 2, posed(2));
   ASSERT_TRUE(entering.changed);
@@ -545,7 +568,7 @@ TEST(DynamicFeatureFilterTwoPhases, WhatWasSeenMovingStaysOutOfTheMapWhileItStan
   const Sequence s = makeStopperSequence();
   auto mappable = [&](const DynamicFeatureFilter& f, std::size_t k,
                       const std::vector<uint8_t>& dynamic) {
-    return stopperMappable(s, f.unjudgedKeypoints(), k, dynamic);
+    return stopperMappable(s, unsureOf(f), k, dynamic);
   };
   DynamicFilterParams off_params = flowOnly();
   off_params.moved_space.memory_frames = 0;
@@ -594,7 +617,7 @@ TEST(DynamicFeatureFilterTwoPhases, AfterLostFramesWhatWasSeenMovingStaysOutOfTh
   const Phases p = step(filter, s, 8, relocalised);
   EXPECT_FALSE(p.changed);
   EXPECT_EQ(p.judged, p.pre);
-  const auto shares = stopperMappable(s, filter.unjudgedKeypoints(), 8, p.judged);
+  const auto shares = stopperMappable(s, unsureOf(filter), 8, p.judged);
   RecordProperty("standing_mappable_pct", int(100 * shares[0]));
   EXPECT_LT(shares[0], 0.1);
   EXPECT_GT(shares[1], 0.95);
@@ -673,8 +696,7 @@ TEST(DynamicFeatureFilterTwoPhases, AFrameIndexThatDoesNotIncreaseIsALogicError)
   const Sequence s = makeSequence();
   DynamicFeatureFilter filter(flowOnly(), test::sceneCamera());
   filter.prepare(s.frames[1], s.gray[1]);
-  std::vector<uint8_t> dyn(s.keypoints[1].size(), 0);
-  filter.process(s.frames[1], s.gray[1], s.keypoints[1], dyn);
+  filter.label(s.frames[1], s.gray[1], s.keypoints[1]);
   EXPECT_THROW(filter.prepare(s.frames[1], s.gray[1]), std::logic_error);
   EXPECT_THROW(filter.prepare(s.frames[0], s.gray[0]), std::logic_error);
 }

@@ -17,6 +17,7 @@
 #include "core/atomic_file.h"
 #include "core/errors.h"
 #include "core/json_writer.h"
+#include "core/keypoint_labels.h"
 #include "eval/keypoint_truth_scorer.h"
 #include "eval/mask_scoring.h"
 #include "testing/test_support.h"
@@ -63,6 +64,32 @@ TEST(MaskScoring, CountsAgainstAHandMadeMask) {
   EXPECT_DOUBLE_EQ(sum.recall(), 2.0 / 3.0);
   EXPECT_TRUE(std::isnan(MaskScore().recall()));
   EXPECT_THROW(scoreKeypoints(pts, {1, 0}, gt), std::invalid_argument);
+}
+
+// The dynamic stage's cues of the flagged points are counted per cue, and
+// per sole motion cue: a walker point flagged by a region alone, one by a
+// region and a box, a static point flagged by the dense flow alone (with a
+// doubt cue beside it), an unflagged static point with a cue (not counted).
+TEST(MaskScoring, FlaggedPointsCountedByCue) {
+  cv::Mat gt(20, 40, CV_8U, cv::Scalar(0));
+  gt(cv::Rect(2, 2, 12, 16)).setTo(1);
+  const std::vector<cv::Point2f> pts = {{7, 9}, {8, 10}, {20, 5}, {20, 15}};
+  const std::vector<uint8_t> flags = {1, 1, 1, 0};
+  const std::vector<uint16_t> cues = {cue::kRegion, cue::kRegion | cue::kBox,
+                                      cue::kDenseFlow | cue::kMovedSpace, cue::kBox};
+  const MaskScore s = scoreKeypoints(pts, flags, gt, 3, nullptr, 0.01, &cues);
+  auto bit = [](uint16_t c) { return __builtin_ctz(c); };
+  EXPECT_EQ(s.walker_flagged_by_cue[bit(cue::kRegion)], 2);
+  EXPECT_EQ(s.walker_flagged_only_cue[bit(cue::kRegion)], 1);
+  EXPECT_EQ(s.walker_flagged_by_cue[bit(cue::kBox)], 1);
+  EXPECT_EQ(s.walker_flagged_only_cue[bit(cue::kBox)], 0);
+  EXPECT_EQ(s.static_flagged_by_cue[bit(cue::kDenseFlow)], 1);
+  EXPECT_EQ(s.static_flagged_only_cue[bit(cue::kDenseFlow)], 1);
+  EXPECT_EQ(s.static_flagged_by_cue[bit(cue::kMovedSpace)], 1);
+  EXPECT_EQ(s.static_flagged_by_cue[bit(cue::kBox)], 0) << "not flagged: not counted";
+  const std::vector<uint16_t> short_cues = {0};
+  EXPECT_THROW(scoreKeypoints(pts, flags, gt, 3, nullptr, 0.01, &short_cues),
+               std::invalid_argument);
 }
 
 TEST(MaskScoringBoxes, StaticPointsInUnmaskedPersonBoxesCountedApart) {

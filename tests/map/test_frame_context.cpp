@@ -213,6 +213,33 @@ TEST(FeatureSet, DynamicKeypointsLeftOutOfGrid) {
   EXPECT_EQ(fs->dynamic, (std::vector<uint8_t>{0, 1, 0}));  // kept as given
 }
 
+// The dynamic stage's revised labels make a relabelled copy (the tracker
+// commits it): moving keypoints leave the grid, unsure ones stay in it, and
+// the original is untouched. Labels of another frame are refused.
+TEST(FeatureSet, WithLabelsRelabelsACopy) {
+  auto fs = std::make_shared<FeatureSet>();
+  fs->ctx = makeContext(ideal());
+  fs->keys = {kp(100, 100), kp(101, 101), kp(102, 99)};
+  fs->descriptors = cv::Mat::zeros(3, 32, CV_8UC1);
+  fs->dynamic = {0, 1, 0};
+  fs->finalize(cv::Mat());
+  KeypointLabels labels(3);
+  labels.label = {KeypointLabel::kMoving, KeypointLabel::kStatic, KeypointLabel::kUnsure};
+  labels.cues = {cue::kRegion, 0, cue::kMovedSpace};
+  const auto revised = fs->withLabels(labels);
+  EXPECT_EQ(revised->dynamic, (std::vector<uint8_t>{1, 0, 0}));
+  EXPECT_EQ(revised->unsure, (std::vector<uint8_t>{0, 0, 1}));
+  EXPECT_TRUE(revised->isUnsure(2));
+  EXPECT_EQ(revised->cues, labels.cues);
+  auto found = revised->featuresInArea(100, 100, 10);
+  std::sort(found.begin(), found.end());
+  EXPECT_EQ(found, (std::vector<int>{1, 2}));
+  EXPECT_EQ(revised->dynamicFeaturesInArea(100, 100, 10), (std::vector<int>{0}));
+  EXPECT_EQ(fs->dynamic, (std::vector<uint8_t>{0, 1, 0}));  // the original as it was
+  EXPECT_TRUE(fs->unsure.empty());
+  EXPECT_THROW(fs->withLabels(KeypointLabels(2)), std::invalid_argument);
+}
+
 // featuresInArea and dynamicFeaturesInArea against a brute-force scan of the
 // same keypoints, a third of them dynamic.
 TEST(FeatureSet, FeaturesInAreaMatchesBruteForce) {

@@ -25,14 +25,17 @@ const cv::Rect2f kRegion(200, 150, 240, 180);
 
 class RegionStartsMoving : public ObservationPreprocessor {
  public:
-  void process(const RGBDFrame& frame, const cv::Mat&, const std::vector<cv::KeyPoint>& keypoints,
-               std::vector<uint8_t>& dynamic) override {
-    if (frame.index < kStartsMoving) return;
+  PreLabels label(const RGBDFrame& frame, const cv::Mat&,
+                  const std::vector<cv::KeyPoint>& keypoints) override {
+    PreLabels out;
+    out.labels = KeypointLabels(keypoints.size());
+    if (frame.index < kStartsMoving) return out;
     for (std::size_t i = 0; i < keypoints.size(); ++i)
       if (kRegion.contains(keypoints[i].pt)) {
-        dynamic[i] = 1;
+        out.labels.label[i] = KeypointLabel::kMoving;
         ++flagged;
       }
+    return out;
   }
   std::size_t flagged = 0;
 };

@@ -81,13 +81,13 @@ class WithoutExtractionMask : public ObservationPreprocessor {
     inner_.prepare(frame, gray);
     return cv::Mat();
   }
-  void process(const RGBDFrame& frame, const cv::Mat& gray, const std::vector<cv::KeyPoint>& keys,
-               std::vector<uint8_t>& dynamic) override {
-    inner_.process(frame, gray, keys, dynamic);
+  PreLabels label(const RGBDFrame& frame, const cv::Mat& gray,
+                  const std::vector<cv::KeyPoint>& keys) override {
+    return inner_.label(frame, gray, keys);
   }
-  bool frameTracked(std::size_t index, const TrackedPose& pose,
-                    std::vector<uint8_t>& dynamic) override {
-    return inner_.frameTracked(index, pose, dynamic);
+  std::optional<KeypointLabels> judge(std::unique_ptr<PendingJudgement> pending,
+                                      const TrackedPose& pose) override {
+    return inner_.judge(std::move(pending), pose);
   }
 
  private:

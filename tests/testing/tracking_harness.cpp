@@ -63,12 +63,17 @@ TrackResult TrackingHarness::track(std::shared_ptr<FeatureSet> f, std::size_t in
     std::lock_guard<std::mutex> lk(map_.mutex());
     tracker_->estimatePose(f, index, timestamp);
     last_inliers_ = tracker_->currentMapInliers();
-    bool changed = false;
-    if (revise && revise(*f)) {
-      f->buildGrids();
-      changed = true;
+    // The revision works on a copy, as the dynamic stage's does
+    // (FeatureSet::withLabels): the tracker commits it.
+    std::shared_ptr<FeatureSet> revised;
+    if (revise) {
+      auto copy = std::make_shared<FeatureSet>(*f);
+      if (revise(*copy)) {
+        copy->buildGrids();
+        revised = copy;
+      }
     }
-    r = tracker_->finishFrame(changed);
+    r = tracker_->finishFrame(revised);
   }
   mapper_->processPending();
   return r;

@@ -372,10 +372,10 @@ TEST(Tracker, MatchesOnKeypointsFlaggedAfterThePoseAreDropped) {
   EXPECT_GE(revised_keyframes, 2u);  // measured 3
 }
 
-// Keypoints the dynamic stage could not judge yet (FeatureSet::unjudged: the
-// right half of every frame here) may match map points but never become new
-// ones; the judged half keeps the map growing and the motion at the truth.
-TEST(Tracker, UnjudgedKeypointsNeverBecomeNewMapPoints) {
+// Keypoints the dynamic stage labels unsure (FeatureSet::unsure: the right
+// half of every frame here) may match map points but never become new ones;
+// the static half keeps the map growing and the motion at the truth.
+TEST(Tracker, UnsureKeypointsNeverBecomeNewMapPoints) {
   const SyntheticData& data = twoLapData();
   SlamConfig cfg = harnessConfig();
   cfg.tracker.max_frames_between_kf = 3;  // keyframes often
@@ -388,9 +388,9 @@ TEST(Tracker, UnjudgedKeypointsNeverBecomeNewMapPoints) {
     const std::size_t kfs_before = h.map().keyFrameCount();
     const TrackResult r = h.track(f, i, data.frame(i).timestamp, [&](FeatureSet& fs) {
       if (i == 0) return false;  // the first frame is the map's start: all judged
-      fs.unjudged.assign(fs.size(), 0);
-      for (std::size_t k = 0; k < fs.size(); ++k) fs.unjudged[k] = fs.keys[k].pt.x >= 320;
-      unjudged = fs.unjudged;
+      fs.unsure.assign(fs.size(), 0);
+      for (std::size_t k = 0; k < fs.size(); ++k) fs.unsure[k] = fs.keys[k].pt.x >= 320;
+      unjudged = fs.unsure;
       return true;
     });
     ASSERT_TRUE(r.has_pose) << i;
@@ -406,7 +406,7 @@ TEST(Tracker, UnjudgedKeypointsNeverBecomeNewMapPoints) {
     for (std::size_t k = 0; k < unjudged.size(); ++k) {
       const MapPoint* mp = kf->points[k];
       if (!mp || mp->first_kf_id != kf->id) continue;
-      EXPECT_FALSE(unjudged[k]) << "new point on unjudged keypoint " << k << " of frame " << i;
+      EXPECT_FALSE(unjudged[k]) << "new point on unsure keypoint " << k << " of frame " << i;
       new_on_judged += !unjudged[k];
     }
   }
