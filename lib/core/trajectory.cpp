@@ -63,4 +63,22 @@ void writeTumTrajectory(const std::string& path, const Trajectory& traj,
   });
 }
 
+const StampedPose* nearestPose(const Trajectory& traj, double t, double max_dt) {
+  const auto after = std::lower_bound(
+      traj.begin(), traj.end(), t, [](const StampedPose& p, double x) { return p.timestamp < x; });
+  const StampedPose* best = nullptr;
+  if (after != traj.end()) best = &*after;
+  if (after != traj.begin() && (!best || t - std::prev(after)->timestamp < best->timestamp - t))
+    best = &*std::prev(after);
+  return best && std::abs(best->timestamp - t) <= max_dt ? best : nullptr;
+}
+
+cv::Matx44d toMatx(const mrpt::poses::CPose3D& pose) {
+  const auto H = pose.getHomogeneousMatrixVal<mrpt::math::CMatrixDouble44>();
+  cv::Matx44d T;
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) T(r, c) = H(r, c);
+  return T;
+}
+
 }  // namespace dynslam

@@ -3,6 +3,7 @@
 // ("timestamp tx ty tz qx qy qz qw", camera-to-world), the lingua franca of
 // RGB-D SLAM evaluation: groundtruth, our estimates and keyframe lists all use it.
 #include <mrpt/poses/CPose3D.h>
+#include <opencv2/core.hpp>
 
 #include <string>
 #include <vector>
@@ -25,6 +26,13 @@ Trajectory readTumTrajectory(const std::string& path);
 /// `header` lines are written as '#' comments.
 void writeTumTrajectory(const std::string& path, const Trajectory& traj,
                         const std::string& header = "");
+
+/// The pose of `traj` (timestamps increasing) nearest in time to t, or null
+/// when none lies within max_dt seconds.
+const StampedPose* nearestPose(const Trajectory& traj, double t, double max_dt);
+
+/// A pose as a 4x4 homogeneous matrix (camera-to-world stays camera-to-world).
+cv::Matx44d toMatx(const mrpt::poses::CPose3D& pose);
 
 /// Formats one TUM line (no newline): 6 decimals for the time, 7 significant
 /// digits after the point for translation and quaternion.

@@ -13,7 +13,7 @@
 //
 // Why DIS's medium preset at half resolution: the ultrafast preset's flow
 // is coarser, and its errors on the static scene flagged more of it than
-// the walkers it added (docs/benchmarks.md, 2026-12-06).
+// the walkers it added (docs/benchmarks.md, "What was tried and not kept").
 //
 // Per frame: addFrame() once (before tracking; it keeps the image for the
 // next frame), then residuals() under the camera motion between the two

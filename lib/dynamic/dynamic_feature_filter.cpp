@@ -416,13 +416,10 @@ std::vector<uint16_t> DynamicFeatureFilter::judgeUnderMotion(FrameToJudge& j,
                                                              const TrackedPose& pose) {
   const auto t0 = SteadyClock::now();
   // Previous camera -> current camera, from the tracker.
-  const cv::Matx44d rel = pose.pose_wc.inv() * pose.last_pose_wc;
-  CameraMotion known;
-  known.R = rel.get_minor<3, 3>(0, 0);
-  known.t = cv::Vec3d(rel(0, 3), rel(1, 3), rel(2, 3));
+  const CameraMotion known = cameraMotionBetween(pose.last_pose_wc, pose.pose_wc);
   MotionEvidence ev;
   ev.r = motion_.classify(j.prev_points, j.cur_points, j.tracked, j.prev_depth, j.cur_depth,
-                          camera_, j.boxes, j.cur_depth.size(), &j.prev_age, &known);
+                          camera_, j.boxes, j.cur_depth.size(), &j.prev_age, known);
   ev.mask = ev.r.mask;
   collectMoving(ev, j.cur_points, j.tracked, j.prev_age);
   const MaskParts parts = buildMask(ev, j.box_mask);

@@ -9,7 +9,7 @@
 // dense flow alone), while the rule that holds back keypoints beside moving
 // tracks found only moving ones near. An even subsample of the carried
 // points still seeds the mover's region; the other half follows the static
-// scene (docs/benchmarks.md, 2026-12-06, seventeenth stop: rpy_close's ATE
+// scene (docs/benchmarks.md, "What was tried and not kept": rpy_close's ATE
 // over ten budgets 0.0236 against 0.0255 m, the other scenes' medians as
 // good or better).
 #include <opencv2/core.hpp>

@@ -84,30 +84,11 @@ std::vector<cv::Point2f> MotionConsistencyCheck::track(const MotionFrame& prev,
   return cur_points;
 }
 
-MotionResult MotionConsistencyCheck::check(const MotionFrame& prev, const MotionFrame& cur,
-                                           const std::vector<cv::Point2f>& prev_points,
-                                           const PinholeCamera& camera,
-                                           const std::vector<Detection>& boxes) {
-  if (prev_points.empty()) {
-    MotionResult res;
-    res.mask = cv::Mat(cur.gray.size(), CV_8U, cv::Scalar(0));
-    return res;
-  }
-  const auto t0 = SteadyClock::now();
-  std::vector<uint8_t> tracked;
-  const std::vector<cv::Point2f> cur_points = track(prev, cur, prev_points, tracked);
-  const double ms_track = msSince(t0);
-  MotionResult res = classify(prev_points, cur_points, tracked, prev.depth, cur.depth, camera,
-                              boxes, cur.gray.size());
-  res.ms_track = ms_track;
-  return res;
-}
-
 MotionResult MotionConsistencyCheck::classify(
     const std::vector<cv::Point2f>& prev_points, const std::vector<cv::Point2f>& cur_points,
     const std::vector<uint8_t>& valid, const cv::Mat& prev_depth, const cv::Mat& cur_depth,
     const PinholeCamera& camera, const std::vector<Detection>& boxes, cv::Size image_size,
-    const std::vector<uint8_t>* carried_points, const CameraMotion* known) {
+    const std::vector<uint8_t>* carried_points, const CameraMotion& known) {
   const std::size_t n = prev_points.size();
   if (cur_points.size() != n || (!valid.empty() && valid.size() != n) ||
       (carried_points && carried_points->size() != n))
@@ -162,9 +143,6 @@ MotionResult MotionConsistencyCheck::classify(
   // --- Grow the moving points into their objects (on a grid `ds` times
   // coarser than the image: the mask is for culling, 2 px steps are plenty).
   t0 = SteadyClock::now();
-  // In an unreliable frame (blur, rolling shutter) the carried seeds are LK
-  // tracks through the same blur: no regions are grown from them.
-  if (!res.geometry.reliable) seeds.clear();
   if (!seeds.empty() && !cur_depth.empty())
     res.mask = growMotionMask(grower_, params_, cur_depth, camera.depth_scale, image_size,
                               std::move(seeds), std::move(limits), raw_cur, moving);

@@ -6,22 +6,25 @@
 // moving points (motion_mask.h); their parameters: motion_check_params.h.
 //
 // Why two tests: the epipolar test (distance of the tracked point to the
-// epipolar line of a RANSAC fundamental matrix) needs no depth but is blind
-// to motion *along* the epipolar line and degenerates when the camera only
-// rotates (fr1_rpy!). With depth we can do better: back-project the previous
-// keypoint, move it by the camera motion (RANSAC PnP on the presumably static
-// points) and require it to reproject near where it was tracked. That 2D
-// residual contains the epipolar distance, so the epipolar test only judges
-// points without depth (or frames without a pose).
+// epipolar line of the camera motion) needs no depth but is blind to motion
+// *along* the epipolar line and degenerates when the camera only rotates
+// (fr1_rpy!). With depth we can do better: back-project the previous
+// keypoint, move it by the camera motion and require it to reproject near
+// where it was tracked. That 2D residual contains the epipolar distance, so
+// the epipolar test only judges points without depth. It runs even then:
+// those are the points on depth edges, i.e. object outlines (the synthetic
+// box test lost 5 % of its mask without them).
 //
-// Why "presumably static": the camera motion and F are fitted on points
-// outside dynamic-class detector boxes (all points when too few remain), so
-// that a crowd filling half the image does not become "the static world".
+// Why the camera motion comes from the tracker (classify's `known`): where
+// movers fill the view, a motion fitted on the tracks themselves (RANSAC)
+// takes their motion for the camera's and flags the static scene. The
+// tracker's pose comes from the map instead; DynamicFeatureFilter judges
+// every tracked frame under it. The points inside dynamic-class detector
+// boxes neither refine that motion nor set the residual scale.
 //
-// Why adaptive thresholds and "unreliable" frames: on real Kinect data, blur
-// and the rolling shutter of fast rotations inflate every residual of a
-// frame; thresholds grow with the frame's robust residual scale, and a frame
-// whose pose explains under half of the static points flags nothing.
+// Why adaptive thresholds: on real Kinect data, blur and the rolling shutter
+// of fast rotations inflate every residual of a frame; thresholds grow with
+// the frame's robust residual scale.
 //
 // Then the moving points are grown into their objects over depth
 // (DepthRegionGrower), regions vote (enough of their points must move), and
@@ -33,11 +36,6 @@
 // and the LK windows cost about a quarter, and the 0.1-0.2 px precision lost
 // is far below the thresholds.
 //
-// Why the F-matrix RANSAC runs even when the PnP pose exists: with a pose,
-// the reprojection test judges every depth-backed point and F only serves
-// the points without depth, but those are the points on depth edges, i.e.
-// object outlines (the synthetic box test lost 5 % of its mask without them).
-//
 // Why carried seeds (classify(..., carried)): a walker found moving in frame
 // t is still there in t+1 even if its residuals there stay under the
 // threshold (slow step, blurred frame). The caller keeps tracking the points
@@ -47,18 +45,13 @@
 // themselves are carried, never a whole region's keypoints: that would let a
 // region sustain itself forever and creep over the static scene.
 //
-// Why a known motion (classify(..., known)): where movers fill the view, the
-// frame-to-frame RANSAC fit can lock onto them and flag the static scene.
-// The tracker's pose comes from the map instead; DynamicFeatureFilter judges
-// every tracked frame under it (its judge phase).
-//
-// Per frame (the lead's pipeline):
-//   MotionFrame cur = check.makeFrame(gray, depth);          // pyramid built once
-//   MotionResult r = check.check(prev, cur, prev_keypoints, camera, boxes);
-//   // r.dynamic[i]: keypoint i moves; r.mask: CV_8U 255 = dynamic pixels of cur
+// Per frame:
+//   MotionFrame cur = check.makeFrame(gray, depth);     // pyramid built once
+//   std::vector<cv::Point2f> pts = check.track(prev, cur, prev_points, tracked);
+//   MotionResult r = check.classify(prev_points, pts, tracked, prev.depth, cur.depth,
+//                                   camera, boxes, {}, carried, known_motion);
+//   // r.dynamic[i]: point i moves; r.mask: CV_8U 255 = dynamic pixels of cur
 //   prev = std::move(cur);
-// or, with matches the tracker already has (no LK, ~5x cheaper):
-//   MotionResult r = check.classify(prev_pts, cur_pts, {}, prev_depth, cur_depth, camera, boxes);
 // Not thread-safe per instance (keeps region-growing buffers).
 // Cost (640x480, ~1000 points): see apps/bench/bench_dynamic.cpp.
 #include <opencv2/core.hpp>
@@ -85,13 +78,13 @@ struct MotionFrame {
 
 struct MotionResult {
   std::vector<cv::Point2f> cur_points;  ///< tracked positions (valid where tracked)
-  std::vector<uint8_t> tracked;     ///< LK ok and forward-backward consistent (classify(): valid)
-  std::vector<uint8_t> dynamic;     ///< 1 = moving (always 0 where not tracked)
-  GeometryResult geometry;          ///< per tracked point, in tracked order
-  Correspondences correspondences;  ///< what geometry was computed from (same order)
-  std::vector<int> tracked_index;   ///< geometry row -> input index
-  cv::Mat mask;                     ///< CV_8U, 255 = dynamic pixel of the current frame
-  double ms_track = 0, ms_geometry = 0, ms_mask = 0;
+  std::vector<uint8_t> tracked;         ///< classify()'s valid
+  std::vector<uint8_t> dynamic;         ///< 1 = moving (always 0 where not tracked)
+  GeometryResult geometry;              ///< per tracked point, in tracked order
+  Correspondences correspondences;      ///< what geometry was computed from (same order)
+  std::vector<int> tracked_index;       ///< geometry row -> input index
+  cv::Mat mask;                         ///< CV_8U, 255 = dynamic pixel of the current frame
+  double ms_geometry = 0, ms_mask = 0;
 };
 
 class MotionConsistencyCheck {
@@ -110,26 +103,18 @@ class MotionConsistencyCheck {
                                  const std::vector<cv::Point2f>& prev_points,
                                  std::vector<uint8_t>& tracked) const;
 
-  /// Tracks prev_points from prev to cur (LK + forward-backward check) and
-  /// classifies them. Points: raw (distorted) pixels. boxes: dynamic-class
-  /// detections in either frame (may be empty).
-  MotionResult check(const MotionFrame& prev, const MotionFrame& cur,
-                     const std::vector<cv::Point2f>& prev_points, const PinholeCamera& camera,
-                     const std::vector<Detection>& boxes);
-
-  /// The same without LK, for correspondences the caller already has (e.g.
-  /// the tracker's descriptor matches): saves the tracking cost, which is
-  /// most of check(). valid (optional): 0 = skip that pair. image_size: of
-  /// the mask (default: cur_depth's size). carried (optional, one per pair):
-  /// non-zero = the point moved in an earlier frame; it seeds region growing
-  /// and votes as moving.
+  /// Classifies tracked correspondences under the camera motion `known`
+  /// (X_cur = R X_prev + t). Points: raw (distorted) pixels. valid
+  /// (optional): 0 = skip that pair. boxes: dynamic-class detections (may be
+  /// empty). image_size: of the mask (default: cur_depth's size). carried
+  /// (optional, one per pair): non-zero = the point moved in an earlier
+  /// frame; it seeds region growing and votes as moving.
   MotionResult classify(const std::vector<cv::Point2f>& prev_points,
                         const std::vector<cv::Point2f>& cur_points,
                         const std::vector<uint8_t>& valid, const cv::Mat& prev_depth,
                         const cv::Mat& cur_depth, const PinholeCamera& camera,
-                        const std::vector<Detection>& boxes, cv::Size image_size = {},
-                        const std::vector<uint8_t>* carried = nullptr,
-                        const CameraMotion* known = nullptr);
+                        const std::vector<Detection>& boxes, cv::Size image_size,
+                        const std::vector<uint8_t>* carried, const CameraMotion& known);
 
   const MotionCheckParams& params() const { return params_; }
 

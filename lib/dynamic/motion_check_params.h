@@ -21,13 +21,13 @@ struct MotionCheckParams {
   /// Sigma of the epipolar test, which judges only the points the
   /// reprojection test cannot: no depth or no pose.
   float epipolar_threshold_px = 1.0f;
-  /// Depth-backed reprojection test (px). With a known camera motion
-  /// (classifyMotion's `known`) the points that pass it (points without
-  /// depth: epipolar_threshold_px) also refine that motion and give the
-  /// residual scale of the adaptive thresholds.
+  /// Depth-backed reprojection test (px). The points that pass it under the
+  /// tracker's motion (points without depth: epipolar_threshold_px) also
+  /// refine that motion and give the residual scale of the adaptive
+  /// thresholds.
   float reprojection_threshold_px = 3.0f;
   /// Per frame, each threshold is raised to k x the robust residual sigma of
-  /// the fit points (blurred / rolling-shutter frames); 0 = fixed thresholds.
+  /// the explained points (blurred / rolling-shutter frames); 0 = fixed.
   float adaptive_threshold_k = 3.0f;
   /// Relative disagreement between the predicted depth of a point and the
   /// depth measured at its tracked position (motion along the viewing ray);
@@ -36,16 +36,9 @@ struct MotionCheckParams {
   /// Back-projection skips pixels whose 3x3 depth neighbourhood spans more
   /// than this fraction (depth edges: foreground or background?).
   float depth_edge_ratio = 0.05f;
-  int min_static_points = 20;  ///< below: fit on all points
-  double ransac_confidence = 0.99;
-  int pnp_iterations = 100;
-  float pnp_inlier_px = 2.0f;         ///< RANSAC PnP inlier threshold
-  float min_pnp_inlier_ratio = 0.3f;  ///< else the pose is not used at all
-  /// A frame whose pose explains fewer than this share of the fit points
-  /// with depth is "unreliable" (strong blur, rolling-shutter skew)...
-  float reliable_inlier_ratio = 0.5f;
-  /// ...and then flags nothing (its verdicts are mostly noise: on fr1_rpy
-  /// 30-60 % of static points in such frames).
+  /// Fewer points outside dynamic boxes than this: all points refine the
+  /// motion and set the residual scale.
+  int min_static_points = 20;
   // --- mask
   RegionGrowParams grow;
   // (Region growing from a point inside a dynamic box stays in that box.)

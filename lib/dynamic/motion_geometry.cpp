@@ -12,6 +12,10 @@ namespace dynslam {
 namespace {
 
 constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
+// Fewest explained points the known motion is refined on (a 6-DoF pose).
+constexpr std::size_t kMinRefinePoints = 6;
+// Below this translation (m) the motion is a rotation: no F, no epipolar test.
+constexpr double kMinBaselineM = 1e-3;
 
 bool inDynamicBox(const cv::Point2f& p, const std::vector<Detection>& boxes) {
   for (const auto& b : boxes)
@@ -40,7 +44,7 @@ void refinePose(const std::vector<cv::Point3f>& obj, const std::vector<cv::Point
 }  // namespace
 
 GeometryResult classifyMotion(const Correspondences& c, const cv::Matx33d& K,
-                              const MotionCheckParams& params, const CameraMotion* known) {
+                              const MotionCheckParams& params, const CameraMotion& known) {
   const std::size_t n = c.prev.size();
   CV_Assert(c.cur.size() == n);
   CV_Assert(c.prev_xyz.empty() || c.prev_xyz.size() == n);
@@ -51,8 +55,11 @@ GeometryResult classifyMotion(const Correspondences& c, const cv::Matx33d& K,
   r.epipolar_error.assign(n, kNaN);
   r.reprojection_error.assign(n, kNaN);
   r.depth_error.assign(n, kNaN);
+  r.R = known.R;
+  r.t = known.t;
 
-  // Points the camera motion is fitted on: outside dynamic boxes, or all.
+  // Points that may refine the motion and give the thresholds their residual
+  // scale: outside dynamic boxes, or all when too few are.
   std::vector<int> fit;
   for (std::size_t i = 0; i < n; ++i)
     if (c.in_dynamic_box.empty() || !c.in_dynamic_box[i]) fit.push_back(int(i));
@@ -73,13 +80,6 @@ GeometryResult classifyMotion(const Correspondences& c, const cv::Matx33d& K,
     const double v = K(1, 1) * Xc[1] / Xc[2] + K(1, 2);
     return float(std::hypot(u - c.cur[i].x, v - c.cur[i].y));
   };
-  // Fit points that give the thresholds their residual scale (all of them,
-  // or with a known motion those it explains; set below).
-  std::vector<int> scale_set = fit;
-  if (known) {
-    r.R = known->R;
-    r.t = known->t;
-  }
   if (!c.prev_xyz.empty()) {
     std::vector<cv::Point3f> obj;
     std::vector<cv::Point2f> img;
@@ -90,99 +90,60 @@ GeometryResult classifyMotion(const Correspondences& c, const cv::Matx33d& K,
         img.push_back(c.cur[i]);
         obj_index.push_back(i);
       }
-    r.pose_candidates = int(obj.size());
-    if (known) {
-      // The known motion comes from the map, not from these tracks: refine
-      // it on the points it explains (rolling shutter and depth timing
-      // shift the tracks by a pixel or so), never replace it.
-      std::vector<int> explained;
-      for (std::size_t k = 0; k < obj.size(); ++k)
-        if (residual(known->R, known->t, std::size_t(obj_index[k])) <
-            params.reprojection_threshold_px)
-          explained.push_back(int(k));
-      if (explained.size() >= 6) {
-        cv::Mat rvec, tvec = (cv::Mat_<double>(3, 1) << known->t[0], known->t[1], known->t[2]);
-        cv::Rodrigues(cv::Mat(known->R), rvec);
-        refinePose(obj, img, explained, K, rvec, tvec, r);
-      }
-      r.has_pose = true;  // pose_inliers: counted from the residuals below
-    } else if (obj.size() >= 6) {
-      cv::Mat rvec, tvec;
-      std::vector<int> inliers;
-      const bool ok = cv::solvePnPRansac(obj, img, K, cv::noArray(), rvec, tvec, false,
-                                         params.pnp_iterations, params.pnp_inlier_px,
-                                         params.ransac_confidence, inliers, cv::SOLVEPNP_AP3P);
-      if (ok && inliers.size() >= 6 && inliers.size() >= params.min_pnp_inlier_ratio * obj.size()) {
-        refinePose(obj, img, inliers, K, rvec, tvec, r);
-        r.has_pose = true;
-        r.pose_inliers = int(inliers.size());
-      }
+    // The known motion comes from the map, not from these tracks: refine
+    // it on the points it explains (rolling shutter and depth timing shift
+    // the tracks by a pixel or so), never replace it.
+    std::vector<int> explained;
+    for (std::size_t k = 0; k < obj.size(); ++k)
+      if (residual(known.R, known.t, std::size_t(obj_index[k])) < params.reprojection_threshold_px)
+        explained.push_back(int(k));
+    if (explained.size() >= kMinRefinePoints) {
+      cv::Mat rvec, tvec = (cv::Mat_<double>(3, 1) << known.t[0], known.t[1], known.t[2]);
+      cv::Rodrigues(cv::Mat(known.R), rvec);
+      refinePose(obj, img, explained, K, rvec, tvec, r);
     }
-    if (r.has_pose) {
-      for (std::size_t i = 0; i < n; ++i) {
-        if (c.prev_xyz[i].z <= 0) continue;
-        r.reprojection_error[i] = residual(r.R, r.t, i);
-        if (!std::isfinite(r.reprojection_error[i]) || c.cur_depth.empty() || c.cur_depth[i] <= 0)
-          continue;
-        const cv::Point3f& X = c.prev_xyz[i];
-        const double z = (r.R * cv::Vec3d(X.x, X.y, X.z) + r.t)[2];
-        r.depth_error[i] = float(std::abs(c.cur_depth[i] - z) / z);
-      }
-      if (known)
-        for (int i : obj_index) r.pose_inliers += r.reprojection_error[i] < params.pnp_inlier_px;
+    r.has_pose = true;
+    for (std::size_t i = 0; i < n; ++i) {
+      if (c.prev_xyz[i].z <= 0) continue;
+      r.reprojection_error[i] = residual(r.R, r.t, i);
+      if (!std::isfinite(r.reprojection_error[i]) || c.cur_depth.empty() || c.cur_depth[i] <= 0)
+        continue;
+      const cv::Point3f& X = c.prev_xyz[i];
+      const double z = (r.R * cv::Vec3d(X.x, X.y, X.z) + r.t)[2];
+      r.depth_error[i] = float(std::abs(c.cur_depth[i] - z) / z);
     }
   }
 
-  // --- Epipolar test.
-  // For the points without depth or pose (motion_check.h says why it is fit
-  // even with a pose). Without F, points lacking depth are judged by the
-  // region mask alone. A known motion gives F directly (none when it is a
-  // pure rotation).
-  if (known) {
-    if (cv::norm(r.t) > 1e-3) {
-      const cv::Matx33d tx(0, -r.t[2], r.t[1], r.t[2], 0, -r.t[0], -r.t[1], r.t[0], 0);
-      const cv::Matx33d Ki = K.inv();
-      r.F = Ki.t() * tx * r.R * Ki;
-      r.has_fundamental = true;
-    }
-  } else if (fit.size() >= 8) {
-    std::vector<cv::Point2f> a, b;
-    a.reserve(fit.size());
-    b.reserve(fit.size());
-    for (int i : fit) {
-      a.push_back(c.prev[i]);
-      b.push_back(c.cur[i]);
-    }
-    cv::Mat F = cv::findFundamentalMat(a, b, cv::FM_RANSAC, params.epipolar_threshold_px,
-                                       params.ransac_confidence);
-    if (F.rows == 3 && F.cols == 3) {
-      r.has_fundamental = true;
-      r.F = cv::Matx33d(F);
-    }
-  }
-  if (r.has_fundamental)
+  // --- Epipolar test, for the points without depth: the known motion gives
+  // F directly (none when it is a pure rotation). motion_check.h says why it
+  // runs even with a pose.
+  if (cv::norm(r.t) > kMinBaselineM) {
+    const cv::Matx33d tx(0, -r.t[2], r.t[1], r.t[2], 0, -r.t[0], -r.t[1], r.t[0], 0);
+    const cv::Matx33d Ki = K.inv();
+    r.F = Ki.t() * tx * r.R * Ki;
+    r.has_fundamental = true;
     for (std::size_t i = 0; i < n; ++i) {
       const cv::Vec3d l = r.F * cv::Vec3d(c.prev[i].x, c.prev[i].y, 1.0);
       const double norm = std::sqrt(l[0] * l[0] + l[1] * l[1]);
       if (norm > 0)
         r.epipolar_error[i] = float(std::abs(l[0] * c.cur[i].x + l[1] * c.cur[i].y + l[2]) / norm);
     }
-  if (known) {
-    // The residual scale comes from the points the known motion explains:
-    // by reprojection where there is depth, else by the epipolar distance,
-    // each within its configured test threshold.
-    scale_set.clear();
-    for (int i : fit) {
-      const bool explained = std::isnan(r.reprojection_error[i])
-                                 ? r.epipolar_error[i] < params.epipolar_threshold_px
-                                 : r.reprojection_error[i] < params.reprojection_threshold_px;
-      if (explained) scale_set.push_back(i);
-    }
+  }
+  // The residual scale comes from the points the known motion explains: by
+  // reprojection where there is depth, else by the epipolar distance, each
+  // within its configured test threshold.
+  std::vector<int> scale_set;
+  for (int i : fit) {
+    const bool explained = std::isnan(r.reprojection_error[i])
+                               ? r.epipolar_error[i] < params.epipolar_threshold_px
+                               : r.reprojection_error[i] < params.reprojection_threshold_px;
+    if (explained) scale_set.push_back(i);
   }
 
   // Per-frame thresholds: at least the configured ones, but grown with the
-  // robust residual scale of the fit set, because blur and the rolling
-  // shutter of fast rotations (fr1_rpy) inflate every residual of a frame.
+  // robust residual scale of the explained points, because blur and the
+  // rolling shutter of fast rotations (fr1_rpy) inflate every residual of a
+  // frame.
   r.epipolar_threshold = params.epipolar_threshold_px;
   r.reprojection_threshold = params.reprojection_threshold_px;
   if (params.adaptive_threshold_k > 0) {
@@ -203,19 +164,11 @@ GeometryResult classifyMotion(const Correspondences& c, const cv::Matx33d& K,
                  params.adaptive_threshold_k * median(r.reprojection_error) / 1.1774f);
   }
 
-  // A pose that explains only a small share of the presumably static points
-  // means the frame is blurred / rolling-shutter-skewed beyond the rigid
-  // model: its per-point verdicts are mostly noise.
-  r.reliable = known        ? true
-               : r.has_pose ? r.pose_inliers >= params.reliable_inlier_ratio * r.pose_candidates
-                            : r.has_fundamental;
-  if (!r.reliable) return r;
-
   for (std::size_t i = 0; i < n; ++i) {
     // NaN compares false: an unavailable test never flags a point.
     // The reprojection error is the full 2D residual (it contains the
     // epipolar distance), so where it exists the epipolar test only adds
-    // noise; it is the fallback for points without depth or pose.
+    // noise; it is the fallback for points without depth.
     const bool has_rep = !std::isnan(r.reprojection_error[i]);
     const bool epi = !has_rep && r.epipolar_error[i] > r.epipolar_threshold;
     const bool rep = has_rep && r.reprojection_error[i] > r.reprojection_threshold;
@@ -223,6 +176,14 @@ GeometryResult classifyMotion(const Correspondences& c, const cv::Matx33d& K,
     r.dynamic[i] = (epi || rep || dep) ? 1 : 0;
   }
   return r;
+}
+
+CameraMotion cameraMotionBetween(const cv::Matx44d& prev_wc, const cv::Matx44d& cur_wc) {
+  const cv::Matx44d rel = cur_wc.inv() * prev_wc;
+  CameraMotion m;
+  m.R = rel.get_minor<3, 3>(0, 0);
+  m.t = cv::Vec3d(rel(0, 3), rel(1, 3), rel(2, 3));
+  return m;
 }
 
 std::vector<cv::Point2f> undistortPixels(const std::vector<cv::Point2f>& raw,

@@ -1,9 +1,10 @@
 #pragma once
-// Motion fit and point classification, the pure-geometry core of the motion
-// check (no images: unit-testable on synthetic correspondences). The camera
-// motion between two frames is fitted (RANSAC PnP on the depth-backed
-// points, a fundamental matrix for the rest) or taken from the tracker, and
-// each correspondence is tested against it; see motion_check.h for why.
+// Point classification under a known camera motion, the pure-geometry core
+// of the motion check (no images: unit-testable on synthetic
+// correspondences). The motion between two frames comes from the tracker's
+// poses (fitted on the map, not on these tracks); it is refined on the
+// points it explains and each correspondence is tested against it; see
+// motion_check.h for why.
 #include <opencv2/core.hpp>
 
 #include <cstdint>
@@ -33,6 +34,10 @@ struct CameraMotion {
   cv::Vec3d t{0, 0, 0};
 };
 
+/// The motion from the camera at prev_wc to the one at cur_wc (both
+/// camera-to-world): X_cur = R X_prev + t.
+CameraMotion cameraMotionBetween(const cv::Matx44d& prev_wc, const cv::Matx44d& cur_wc);
+
 struct GeometryResult {
   std::vector<uint8_t> dynamic;           ///< 1 = moving
   std::vector<float> epipolar_error;      ///< px; NaN when no F
@@ -45,12 +50,7 @@ struct GeometryResult {
   cv::Vec3d t;
   float epipolar_threshold = 0;  ///< thresholds used for this frame (px)
   float reprojection_threshold = 0;
-  int fit_points = 0;  ///< points the motion was fitted on
-  int pose_inliers = 0;
-  int pose_candidates = 0;  ///< fit points with depth given to PnP
-  /// The motion fit explains the fit points well enough to trust the flags
-  /// (see MotionCheckParams::reliable_inlier_ratio).
-  bool reliable = false;
+  int fit_points = 0;  ///< points that may refine the motion (outside dynamic boxes)
 };
 
 /// Raw (distorted) pixels undistorted with camera.dist (a copy when the
@@ -77,11 +77,10 @@ Correspondences buildCorrespondences(const std::vector<cv::Point2f>& prev_points
                                      float depth_edge_ratio = 0.05f);
 
 /// Pure geometry: classify correspondences (no images). K: 3x3 intrinsics
-/// of the (undistorted) pixel coordinates in `c`. known (optional): the
-/// camera motion is not fitted by RANSAC but taken from there and refined
-/// on the points it explains within reprojection_threshold_px; F then follows
-/// from it, and the frame counts as reliable.
+/// of the (undistorted) pixel coordinates in `c`. The camera motion is
+/// `known`, refined on the points it explains within
+/// reprojection_threshold_px; F follows from it.
 GeometryResult classifyMotion(const Correspondences& c, const cv::Matx33d& K,
-                              const MotionCheckParams& params, const CameraMotion* known = nullptr);
+                              const MotionCheckParams& params, const CameraMotion& known);
 
 }  // namespace dynslam

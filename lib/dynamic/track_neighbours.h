@@ -4,8 +4,8 @@
 // Why: the judgement flags a mover's keypoints through regions grown from
 // its moving LK tracks, and those regions end at the person's outline, where
 // the keypoints mix person and background: most of the walker keypoints the
-// flags miss lie within 10 px of the outline (docs/benchmarks.md,
-// 2026-12-06). A keypoint whose nearest judged track moved makes no map
+// flags miss lie within 10 px of the outline (measured on the composites'
+// true masks). A keypoint whose nearest judged track moved makes no map
 // point (it may still be matched for tracking). One with no judged track
 // near it is left alone: where a mover fills the view its carried points
 // take half the tracks (flow_points.h), the static rest is tracked sparsely,

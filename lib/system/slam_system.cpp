@@ -10,13 +10,6 @@ namespace dynslam {
 
 namespace {
 using Clock = SteadyClock;
-cv::Matx44d toMatx(const mrpt::poses::CPose3D& pose) {
-  const auto H = pose.getHomogeneousMatrixVal<mrpt::math::CMatrixDouble44>();
-  cv::Matx44d T;
-  for (int r = 0; r < 4; ++r)
-    for (int c = 0; c < 4; ++c) T(r, c) = H(r, c);
-  return T;
-}
 }  // namespace
 
 SlamSystem::SlamSystem(const SlamConfig& config, const PinholeCamera& camera)

@@ -39,7 +39,7 @@ TrackResult Tracker::estimatePose(std::shared_ptr<const FeatureSet> features, st
   // (the motion model's velocity, TrackResult::last_pose_wc) is not the
   // correction. Not after a local BA: its keyframe's small moves are not
   // the frame's own, and following them added noise to that motion
-  // (docs/benchmarks.md, 2026-12-06).
+  // (docs/benchmarks.md, "What was tried and not kept").
   if (map_.corrections() != seen_corrections_) {
     seen_corrections_ = map_.corrections();
     if (last_.has_pose && !records_.empty() && records_.back().index == last_.index)

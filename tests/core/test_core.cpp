@@ -383,3 +383,17 @@ TEST(Messages, PrintableLineEscapesControlBytesAndCapsTheLength) {
   EXPECT_EQ(printableLine("\xe2\x82\xac and \xf0\x9f\x99\x82"),
             "\xe2\x82\xac and \xf0\x9f\x99\x82");
 }
+
+// nearestPose: the pose nearest in time, on either side, within max_dt.
+TEST(Trajectory, NearestPoseWithinMaxDt) {
+  Trajectory t;
+  for (double s : {1.0, 1.01, 1.02, 1.05}) t.push_back({s, mrpt::poses::CPose3D(s, 0, 0, 0, 0, 0)});
+  ASSERT_NE(nearestPose(t, 1.012, 0.005), nullptr);
+  EXPECT_DOUBLE_EQ(nearestPose(t, 1.012, 0.005)->timestamp, 1.01);
+  EXPECT_DOUBLE_EQ(nearestPose(t, 1.018, 0.005)->timestamp, 1.02);
+  EXPECT_DOUBLE_EQ(nearestPose(t, 0.999, 0.005)->timestamp, 1.0);
+  EXPECT_DOUBLE_EQ(nearestPose(t, 1.06, 0.02)->timestamp, 1.05);
+  EXPECT_EQ(nearestPose(t, 1.035, 0.01), nullptr);  // 15 ms from both neighbours
+  EXPECT_EQ(nearestPose(t, 2.0, 0.5), nullptr);
+  EXPECT_EQ(nearestPose(Trajectory(), 1.0, 1.0), nullptr);
+}

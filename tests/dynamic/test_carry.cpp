@@ -165,7 +165,12 @@ TEST(MotionCarry, CarriedPointsKeepASlowObjectMasked) {
                     f3 = check.makeFrame(g3, d3);
   std::vector<cv::Point2f> pts;
   cv::goodFeaturesToTrack(g1, pts, 600, 0.01, 6);
-  const MotionResult r12 = check.check(f1, f2, pts, cam, {});
+  CameraMotion slide;  // the camera's 4 cm to the right, as the tracker's poses give it
+  slide.t = cv::Vec3d(-0.04, 0, 0);
+  std::vector<uint8_t> tracked12;
+  const std::vector<cv::Point2f> cur12 = check.track(f1, f2, pts, tracked12);
+  const MotionResult r12 =
+      check.classify(pts, cur12, tracked12, d1, d2, cam, {}, g2.size(), nullptr, slide);
   // Points that moved in 1 -> 2 are carried into 2 -> 3.
   std::vector<cv::Point2f> p2;
   std::vector<uint8_t> carried;
@@ -176,8 +181,10 @@ TEST(MotionCarry, CarriedPointsKeepASlowObjectMasked) {
     }
   std::vector<uint8_t> tracked;
   const std::vector<cv::Point2f> p3 = check.track(f2, f3, p2, tracked);
-  const MotionResult without = check.classify(p2, p3, tracked, d2, d3, cam, {}, g3.size());
-  const MotionResult with = check.classify(p2, p3, tracked, d2, d3, cam, {}, g3.size(), &carried);
+  const MotionResult without =
+      check.classify(p2, p3, tracked, d2, d3, cam, {}, g3.size(), nullptr, slide);
+  const MotionResult with =
+      check.classify(p2, p3, tracked, d2, d3, cam, {}, g3.size(), &carried, slide);
   cv::Mat truth(H, W, CV_8U, cv::Scalar(0));
   truth(truth3).setTo(255);
   const double area = truth3.area();
@@ -190,7 +197,7 @@ TEST(MotionCarry, CarriedPointsKeepASlowObjectMasked) {
   EXPECT_LT(cv::countNonZero(with.mask & ~truth), 0.02 * area);
 
   std::vector<uint8_t> wrong(p2.size() + 1, 0);
-  EXPECT_THROW(check.classify(p2, p3, tracked, d2, d3, cam, {}, g3.size(), &wrong),
+  EXPECT_THROW(check.classify(p2, p3, tracked, d2, d3, cam, {}, g3.size(), &wrong, slide),
                std::invalid_argument);
 }
 

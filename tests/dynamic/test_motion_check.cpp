@@ -14,6 +14,7 @@
 #include <sstream>
 
 #include "core/camera.h"
+#include "core/trajectory.h"
 #include "dynamic/motion_check.h"
 #include "rawlog/tum_folder_source.h"
 #include "synthetic_scene.h"
@@ -33,6 +34,14 @@ struct Scene {
   Correspondences c;
   std::vector<int> kind;  // 0 static, 1 moving across, 2 moving along the epipolar line
 };
+
+// The scenes' camera motion, as the tracker would have it from the map.
+CameraMotion trueMotion() {
+  CameraMotion m;
+  cv::Rodrigues(cv::Vec3d(0.02, -0.045, 0.01), m.R);
+  m.t = cv::Vec3d(0.12, 0.02, 0.03);
+  return m;
+}
 
 // Static points in a 4 x 3 x 4 m volume in front of the first camera, a
 // cluster moving sideways and up (off its epipolar lines) and a cluster moving
@@ -96,7 +105,7 @@ Rates rates(const Scene& s, const std::vector<uint8_t>& dyn) {
 TEST(ClassifyMotion, FlagsMovingClustersIncludingAlongTheEpipolarLine) {
   const Scene s = makeScene(400, 40, 40, 0.3, 1);
   const MotionCheckParams p;
-  const GeometryResult g = classifyMotion(s.c, kK, p);
+  const GeometryResult g = classifyMotion(s.c, kK, p, trueMotion());
   ASSERT_TRUE(g.has_fundamental);
   ASSERT_TRUE(g.has_pose);
   // The pose is the true one.
@@ -126,7 +135,7 @@ TEST(ClassifyMotion, WithoutDepthOnlyTheEpipolarTestRemains) {
   Scene s = makeScene(400, 40, 40, 0.3, 2);
   s.c.prev_xyz.clear();
   s.c.cur_depth.clear();
-  const GeometryResult g = classifyMotion(s.c, kK, MotionCheckParams());
+  const GeometryResult g = classifyMotion(s.c, kK, MotionCheckParams(), trueMotion());
   EXPECT_FALSE(g.has_pose);
   const Rates r = rates(s, g.dynamic);
   EXPECT_GT(r.recall_across, 0.95);
@@ -134,31 +143,28 @@ TEST(ClassifyMotion, WithoutDepthOnlyTheEpipolarTestRemains) {
   EXPECT_LT(r.false_positive, 0.05);
 }
 
-// 45 % of the points move together: a plain RANSAC could lock onto them, the
-// detector boxes keep them out of the fit.
-TEST(ClassifyMotion, DetectorBoxesKeepACrowdOutOfTheFit) {
+// 45 % of the points move together inside detector boxes: the boxes keep
+// them out of the points that refine the motion and set the residual scale.
+TEST(ClassifyMotion, DetectorBoxesKeepACrowdOutOfTheRefinement) {
   Scene s = makeScene(220, 180, 0, 0.3, 3);
   for (std::size_t i = 0; i < s.kind.size(); ++i) s.c.in_dynamic_box[i] = s.kind[i] != 0;
-  const GeometryResult g = classifyMotion(s.c, kK, MotionCheckParams());
+  const GeometryResult g = classifyMotion(s.c, kK, MotionCheckParams(), trueMotion());
   EXPECT_EQ(g.fit_points, 220);
   const Rates r = rates(s, g.dynamic);
   EXPECT_GT(r.recall_across, 0.95);
   EXPECT_LT(r.false_positive, 0.05);
 }
 
-// 70 % of the points move together and no box marks them: RANSAC takes
-// their motion for the camera's and flags the static points. Given the true
-// camera motion (as the tracker has it from the map), slightly off, the
-// check refines it on the points it explains and flags the crowd instead.
-TEST(ClassifyMotion, KnownMotionOverridesACrowdThatHijacksTheFit) {
+// 70 % of the points move together and no box marks them (a motion fitted
+// on the tracks would be theirs). Given the camera motion as the tracker has
+// it from the map, slightly off, the check refines it on the points it
+// explains and flags the crowd.
+TEST(ClassifyMotion, AKnownMotionSlightlyOffIsRefinedAndFlagsACrowd) {
   const Scene s = makeScene(120, 280, 0, 0.3, 5);
-  const GeometryResult fitted = classifyMotion(s.c, kK, MotionCheckParams());
-  ASSERT_GT(rates(s, fitted.dynamic).false_positive, 0.5);  // hijacked
   CameraMotion known;
   cv::Rodrigues(cv::Vec3d(0.02 + 0.002, -0.045, 0.01), known.R);  // ~0.1 deg off
   known.t = cv::Vec3d(0.12, 0.02 + 0.005, 0.03);                  // 5 mm off
-  const GeometryResult g = classifyMotion(s.c, kK, MotionCheckParams(), &known);
-  EXPECT_TRUE(g.reliable);
+  const GeometryResult g = classifyMotion(s.c, kK, MotionCheckParams(), known);
   ASSERT_TRUE(g.has_pose);
   ASSERT_TRUE(g.has_fundamental);
   cv::Matx33d R;
@@ -172,7 +178,7 @@ TEST(ClassifyMotion, KnownMotionOverridesACrowdThatHijacksTheFit) {
   Scene flat = s;
   flat.c.prev_xyz.clear();
   flat.c.cur_depth.clear();
-  const GeometryResult e = classifyMotion(flat.c, kK, MotionCheckParams(), &known);
+  const GeometryResult e = classifyMotion(flat.c, kK, MotionCheckParams(), known);
   ASSERT_TRUE(e.has_fundamental);
   EXPECT_GT(rates(flat, e.dynamic).recall_across, 0.9);
   EXPECT_LT(rates(flat, e.dynamic).false_positive, 0.05);
@@ -180,7 +186,7 @@ TEST(ClassifyMotion, KnownMotionOverridesACrowdThatHijacksTheFit) {
 
 TEST(ClassifyMotion, StaticSceneHasNoDynamicPoints) {
   const Scene s = makeScene(300, 0, 0, 0.3, 4);
-  const GeometryResult g = classifyMotion(s.c, kK, MotionCheckParams());
+  const GeometryResult g = classifyMotion(s.c, kK, MotionCheckParams(), trueMotion());
   EXPECT_LT(rates(s, g.dynamic).false_positive, 0.03);
 }
 
@@ -225,9 +231,13 @@ TEST(MotionConsistencyCheck, RenderedMovingBoxIsFlaggedAndMasked) {
   p.lk_window = 21;
   MotionConsistencyCheck check(p);
   const MotionFrame f1 = check.makeFrame(g1, d1), f2 = check.makeFrame(g2, d2);
-  const MotionResult r = check.check(f1, f2, pts, cam, {});
+  std::vector<uint8_t> tracked;
+  const std::vector<cv::Point2f> cur = check.track(f1, f2, pts, tracked);
+  CameraMotion slide;  // X_cur = X_prev - 4 cm, 1 cm off as a tracker's pose may be
+  slide.t = cv::Vec3d(-0.03, 0, 0);
+  const MotionResult r = check.classify(pts, cur, tracked, d1, d2, cam, {}, {}, nullptr, slide);
   ASSERT_TRUE(r.geometry.has_pose);
-  EXPECT_NEAR(r.geometry.t[0], -0.04, 0.005);  // X_cur = X_prev - 4 cm
+  EXPECT_NEAR(r.geometry.t[0], -0.04, 0.005);  // refined on the points it explains
 
   // Points well inside the box / well on the wall: 3 px away from the edge,
   // where the LK window straddles both and tracking is legitimately unsure,
@@ -261,12 +271,6 @@ TEST(MotionConsistencyCheck, RenderedMovingBoxIsFlaggedAndMasked) {
   const double uni = cv::countNonZero(r.mask | truth);
   EXPECT_GT(inter / uni, 0.95);
   EXPECT_EQ(cv::countNonZero(r.mask & ~truth), 0);
-
-  // classify() on the same correspondences (as the tracker's matches would
-  // give them) reaches the same verdicts without tracking.
-  const MotionResult c = check.classify(pts, r.cur_points, r.tracked, d1, d2, cam, {});
-  EXPECT_EQ(c.dynamic, r.dynamic);
-  EXPECT_EQ(cv::countNonZero(c.mask != r.mask), 0);
 }
 
 TEST(MotionConsistencyCheck, NoPointsNoCrash) {
@@ -277,43 +281,68 @@ TEST(MotionConsistencyCheck, NoPointsNoCrash) {
   cam.fx = cam.fy = 100;
   cam.cx = 40;
   cam.cy = 30;
-  const MotionResult r = check.check(f, f, {}, cam, {});
+  std::vector<uint8_t> tracked;
+  const std::vector<cv::Point2f> cur = check.track(f, f, {}, tracked);
+  const MotionResult r = check.classify({}, cur, tracked, d, d, cam, {}, {}, nullptr, {});
   EXPECT_TRUE(r.dynamic.empty());
   EXPECT_EQ(cv::countNonZero(r.mask), 0);
 }
 
 // Real fr1_rpy frames 10-14 (a static desk scene, fast rotation, motion
-// blur): the check must leave nearly all tracked points static.
+// blur) under the groundtruth's camera motion (what the tracker's poses
+// approximate): the check must leave nearly all tracked points static.
 TEST(MotionConsistencyCheck, RealStaticSceneFlagsFewPoints) {
   const std::string dir = dynslam::test::rpyDir();
   const dynslam::TumFolderSource seq(dir);
   ASSERT_GT(seq.size(), 20u);
   const PinholeCamera cam = loadCameraYaml(dynslam::test::sourceDir() + "/configs/tum_fr1.yaml");
-
+  const Trajectory gt = readTumTrajectory(dir + "/groundtruth.txt");
   MotionConsistencyCheck check;
   MotionFrame prev;
+  cv::Matx44d prev_wc;
   std::vector<cv::Point2f> pts;
-  int tracked = 0, flagged = 0, reliable = 0;
+  int tracked = 0, flagged = 0;
   for (std::size_t i = 10; i < 15; ++i) {
-    const cv::Mat im = cv::imread(seq.rgbPath(i), cv::IMREAD_GRAYSCALE);
-    const cv::Mat d = cv::imread(seq.depthPath(i), cv::IMREAD_UNCHANGED);
-    ASSERT_FALSE(im.empty());
-    ASSERT_EQ(d.type(), CV_16UC1);
-    MotionFrame cur = check.makeFrame(im, d);
+    const RGBDFrame frame = seq.load(i);
+    cv::Mat im;
+    cv::cvtColor(frame.rgb, im, cv::COLOR_BGR2GRAY);
+    MotionFrame cur = check.makeFrame(im, frame.depth);
+    const StampedPose* at = nearestPose(gt, frame.timestamp, 0.02);
+    ASSERT_NE(at, nullptr) << i;
+    const cv::Matx44d wc = toMatx(at->pose);
     if (!pts.empty()) {
-      const MotionResult r = check.check(prev, cur, pts, cam, {});
+      const CameraMotion known = cameraMotionBetween(prev_wc, wc);
+      std::vector<uint8_t> ok;
+      const std::vector<cv::Point2f> moved = check.track(prev, cur, pts, ok);
+      const MotionResult r =
+          check.classify(pts, moved, ok, prev.depth, cur.depth, cam, {}, {}, nullptr, known);
       tracked += int(r.tracked_index.size());
       flagged += int(std::count(r.dynamic.begin(), r.dynamic.end(), 1));
-      reliable += r.geometry.reliable;
-      // Whatever is masked stays small. (Observed: 0 px in 3 frames, 12 % in
-      // the blurred frame 13, where stray flags grow over the sparsely
-      // tracked desk.)
-      EXPECT_LT(cv::countNonZero(r.mask), int(im.total() / 5));
+      // Whatever is masked stays small.
+      EXPECT_LT(cv::countNonZero(r.mask), int(im.total() / 5)) << i;
     }
     cv::goodFeaturesToTrack(cur.gray, pts, 800, 0.005, 8);
     prev = std::move(cur);
+    prev_wc = wc;
   }
-  EXPECT_GE(reliable, 3);  // the gate must not simply switch the check off
   ASSERT_GT(tracked, 1000);
-  EXPECT_LT(double(flagged) / tracked, 0.08);  // observed 6.2 % (frame 13: 11 %)
+  RecordProperty("flagged_per_mille", int(1000.0 * flagged / tracked));
+  // Observed 8.5 %: the motion-capture poses are not the image's exact
+  // instant, and frame 13 is blurred (in the pipeline the map vetoes such a
+  // judgement, DynamicFilterParams::max_map_inliers_flagged).
+  EXPECT_LT(double(flagged) / tracked, 0.10);
+}
+
+// The motion between two camera poses (camera-to-world) moves a point seen
+// by the first camera to where the second sees it.
+TEST(CameraMotionBetween, MovesPointsFromTheFirstCameraIntoTheSecond) {
+  const mrpt::poses::CPose3D a(0.3, -0.2, 1.0, 0.2, -0.1, 0.05), b(0.5, 0.1, 0.9, 0.25, 0.0, -0.1);
+  const CameraMotion m = cameraMotionBetween(toMatx(a), toMatx(b));
+  const mrpt::math::TPoint3D in_a(0.4, -0.3, 2.5);
+  const mrpt::math::TPoint3D world = a.composePoint(in_a);
+  const mrpt::math::TPoint3D in_b = b.inverseComposePoint(world);
+  const cv::Vec3d moved = m.R * cv::Vec3d(in_a.x, in_a.y, in_a.z) + m.t;
+  EXPECT_NEAR(moved[0], in_b.x, 1e-9);
+  EXPECT_NEAR(moved[1], in_b.y, 1e-9);
+  EXPECT_NEAR(moved[2], in_b.z, 1e-9);
 }

@@ -621,7 +621,7 @@ TEST(SystemRpy, RelocalisesAfterAJumpAcrossTheSequence) {
 // from predictions with 11-101 of 135-174 matches within the threshold, and
 // the matches themselves prefer the displaced pose: the final inliers
 // re-optimised from the prediction land there, and a first round that only
-// turns the camera changes nothing (docs/benchmarks.md, eighth stop).
+// turns the camera changes nothing (docs/benchmarks.md, "What was tried and not kept").
 // Enable when fixed.
 TEST(SystemRpy, DISABLED_TracksToTheEndAfterARelocalisation) {
   TempDir d;
