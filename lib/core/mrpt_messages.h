@@ -11,7 +11,8 @@ std::string oneLineMessage(const std::string& what);
 
 /// `line` safe to print on a terminal: control bytes and bytes that are not
 /// UTF-8 (a message that quotes a binary file's bytes) as \xNN, and at most
-/// `max_chars` characters.
+/// `max_chars` characters: a longer line loses its middle ("head...tail",
+/// a quarter before, three quarters after), so the reason at its end stays.
 std::string printableLine(const std::string& line, std::size_t max_chars = 2000);
 
 }  // namespace dynslam
