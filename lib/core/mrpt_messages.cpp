@@ -29,8 +29,6 @@ std::string oneLineMessage(const std::string& what) {
   return first.empty() ? what : first;
 }
 
-namespace {
-/// Length of the valid UTF-8 sequence starting at s[i] (2..4), 0 if none.
 std::size_t utf8SequenceAt(const std::string& s, std::size_t i) {
   const auto c = static_cast<unsigned char>(s[i]);
   const std::size_t n = c >= 0xc2 && c <= 0xdf   ? 2
@@ -42,7 +40,16 @@ std::size_t utf8SequenceAt(const std::string& s, std::size_t i) {
     if ((static_cast<unsigned char>(s[i + k]) & 0xc0) != 0x80) return 0;
   return n;
 }
-}  // namespace
+
+std::size_t firstInvalidUtf8(const std::string& s) {
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    if (static_cast<unsigned char>(s[i]) < 0x80) continue;
+    const std::size_t n = utf8SequenceAt(s, i);
+    if (n == 0) return i;
+    i += n - 1;
+  }
+  return std::string::npos;
+}
 
 std::string printableLine(const std::string& line, std::size_t max_chars) {
   static const char* const kHex = "0123456789abcdef";
