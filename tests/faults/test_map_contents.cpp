@@ -9,12 +9,12 @@
 #include <cstring>
 #include <fstream>
 #include <iterator>
-#include <random>
 
 #include "core/errors.h"
 #include "fault_support.h"
 #include "map/map.h"
 #include "mapio/map_file.h"
+#include "testing/random_features.h"
 
 using namespace dynslam;
 using namespace dynslam::test;
@@ -34,30 +34,9 @@ constexpr std::size_t kFirstPose = kFirstKeyFrame + 4 * 8;
 constexpr std::size_t kFirstKeyPoint = kFirstPose + 12 * 8 + 1 + 4 + 1;
 constexpr std::size_t kKeyPointBytes = 28;
 
-std::shared_ptr<const FrameContext> ctx() {
-  static const std::shared_ptr<const FrameContext> c = idealFrameContext();
-  return c;
-}
+std::shared_ptr<const FrameContext> ctx() { return idealContext(); }
 
-/// Keypoints inside the 640 x 480 image, with depth.
-std::shared_ptr<FeatureSet> features(unsigned seed) {
-  auto fs = std::make_shared<FeatureSet>();
-  fs->ctx = ctx();
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<float> u(10.f, 470.f);
-  fs->descriptors = cv::Mat(kKeyPoints, 32, CV_8UC1);
-  cv::randu(fs->descriptors, 0, 256);
-  for (int i = 0; i < kKeyPoints; ++i) {
-    cv::KeyPoint k(u(rng) + 100.f, u(rng), 31.f, 0.f, 0.01f, i % 8, -1);
-    fs->keys.push_back(k);
-    fs->keys_un.push_back(k);
-    fs->depth.push_back(2.f);
-    fs->ur.push_back(k.pt.x - 20.f);
-    fs->dynamic.push_back(0);
-  }
-  fs->buildGrids();
-  return fs;
-}
+std::shared_ptr<FeatureSet> features(unsigned seed) { return randomFeatures(kKeyPoints, seed); }
 
 /// The size in bytes of the keyframe at `at` (docs/map_file.md, item 3).
 std::size_t keyFrameBytes(const std::string& b, std::size_t at) {
