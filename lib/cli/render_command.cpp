@@ -166,7 +166,7 @@ int renderMain(int argc, char** argv) {
     const std::string what = "no point of the map lies in the view '" + view_arg.getValue() + "'";
     if (view.kind == ViewSpec::Kind::kPose)
       throw UsageError("--view: " + what + " of " + path + " (it looks away or is too far)");
-    throw InputError(path, what + " (the map is too large to be drawn whole)");
+    throw InputError(path, what + " (the map is too large, or too small, to be framed)");
   }
   const cv::Mat image = renderer.renderFromPose(map, camera_pose);
   writePngAtomically(out_arg.getValue(), image);
