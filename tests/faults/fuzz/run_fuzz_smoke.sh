@@ -50,7 +50,7 @@ esac
 
 echo "fuzz_$target: $seconds s from $(ls "$seeds" | wc -l) seeds"
 status=0
-LSAN_OPTIONS="suppressions=$here/lsan.supp:print_suppressions=0" "$build/fuzz_$target" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 \
+LSAN_OPTIONS="suppressions=$here/lsan.supp:print_suppressions=0" "$build/fuzz_$target" -max_total_time="$seconds" -timeout=30 -rss_limit_mb=2048 \
   -max_len=4096 -print_final_stats=1 -artifact_prefix="$work/" "$corpus" "$seeds" \
   >"$work/log" 2>&1 || status=$?
 tail -n 25 "$work/log"
