@@ -156,6 +156,28 @@ TEST(ConfigRanges, ValuesOutsideTheDocumentedRangeAreRefusedAtTheirLine) {
   EXPECT_EQ(runDynslamSplit({"config"}).exit_code, 0);
 }
 
+// ... and the check is no narrower than documented: a value at each
+// documented bound (just inside an open one) passes the key's range check
+// (another rule across keys, such as min_depth < max_depth, may still
+// refuse it, but not as outside the key's range).
+TEST(ConfigRanges, ValuesAtTheDocumentedBoundsPassTheRangeCheck) {
+  TempDir d;
+  const auto config = documentedRanges(sourceDir() + "/configs/dynslam.yaml");
+  for (const char* key : kRealKeys) {
+    if (!config.count(key)) continue;  // the first test fails
+    const Documented& r = config.at(key);
+    const double step = 1e-6;
+    for (double v : {r.low_open ? r.low + step * std::max(1.0, std::abs(r.low)) : r.low,
+                     r.high_open ? r.high - step * std::max(1.0, std::abs(r.high)) : r.high}) {
+      int line = 0;
+      writeText(d / "c.yaml", nestedYaml(key, number(v), line));
+      const SplitCommandResult res = runDynslamSplit({"config", "--config", d / "c.yaml"});
+      EXPECT_EQ(res.err.find("outside its range"), std::string::npos)
+          << key << ": " << number(v) << ": " << res.err;
+    }
+  }
+}
+
 class CameraRanges : public ::testing::Test {
  protected:
   void SetUp() override { tum_ = makeMiniTum(dir_.path(), 2); }
