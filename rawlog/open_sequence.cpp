@@ -17,8 +17,9 @@ std::unique_ptr<FrameSource> openSequence(const std::string& path, const std::st
                        " is a TUM folder; sensor labels exist only in rawlogs");
     return std::make_unique<TumFolderSource>(path, camera_config);
   }
-  if (fileExists(path)) return std::make_unique<RawlogSource>(path, camera_config, sensor);
-  throw InputError(path, "no such TUM sequence folder or rawlog file");
+  // Not found, or a device or a pipe (/dev/null was "no such" file).
+  requireRegularFile(path, "TUM sequence folder or rawlog file");
+  return std::make_unique<RawlogSource>(path, camera_config, sensor);
 }
 
 std::string sequenceGroundtruthPath(const std::string& path) {

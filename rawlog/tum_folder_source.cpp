@@ -50,11 +50,14 @@ TumFolderSource::TumFolderSource(const std::string& folder, const std::string& c
   pairs_ = associateTumLists(rgb, depth);
   if (pairs_.empty()) throw InputError(folder, noPairsMessage(rgb, depth));
   // Missing files are found now rather than hundreds of frames into a run.
+  // A folder or a pipe named in a list is said to be one (a folder was
+  // reported "not found", issue 57).
   for (const auto& p : pairs_) {
-    if (!fileExists(folder + "/" + p.rgb.file))
-      throw InputError(rgb_list, p.rgb.line, "image '" + p.rgb.file + "' not found");
-    if (!fileExists(folder + "/" + p.depth.file))
-      throw InputError(depth_list, p.depth.line, "image '" + p.depth.file + "' not found");
+    for (const auto& [list, entry] : {std::pair{&rgb_list, &p.rgb}, {&depth_list, &p.depth}}) {
+      const std::string problem = regularFileProblem(folder + "/" + entry->file);
+      if (!problem.empty())
+        throw InputError(*list, entry->line, "image '" + entry->file + "': " + problem);
+    }
   }
 }
 

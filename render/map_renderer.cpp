@@ -125,6 +125,20 @@ mrpt::poses::CPose3D MapRenderer::cameraPose(const MapData& map, const ViewSpec&
   return viewCameraPose(view, frameScene(map, options_.up), hfov, vfov);
 }
 
+bool MapRenderer::showsAnyPoint(const MapData& map, const mrpt::poses::CPose3D& camera_pose) const {
+  float near_m = 0, far_m = 0;
+  mrpt::opengl::COpenGLScene().getViewport()->getViewportClipDistances(near_m, far_m);
+  const PinholeCamera K = intrinsics();
+  for (const auto& p : map.points) {
+    double x, y, z;
+    camera_pose.inverseComposePoint(p.x, p.y, p.z, x, y, z);
+    if (!(z >= near_m && z <= far_m)) continue;
+    const double u = K.fx * x / z + K.cx, v = K.fy * y / z + K.cy;
+    if (u >= 0 && u < K.width && v >= 0 && v < K.height) return true;
+  }
+  return false;
+}
+
 cv::Mat MapRenderer::render(const MapData& map, const ViewSpec& view) {
   return renderFromPose(map, cameraPose(map, view));
 }

@@ -61,6 +61,11 @@ class MapRenderer {
 
   /// The camera pose `render(map, view)` uses.
   mrpt::poses::CPose3D cameraPose(const MapData& map, const ViewSpec& view) const;
+  /// True when a point of `map` projects into the image from `camera_pose`
+  /// within the depth range OpenGL draws (its clip planes): a view that
+  /// shows none is a one-colour picture (a camera far away or looking away,
+  /// a map too large for the far plane; issue 57).
+  bool showsAnyPoint(const MapData& map, const mrpt::poses::CPose3D& camera_pose) const;
   /// The virtual camera's intrinsics.
   PinholeCamera intrinsics() const;
   const RenderOptions& options() const { return options_; }

@@ -9,12 +9,16 @@
 #include <stdexcept>
 #include <vector>
 
+#include "core/map_bounds.h"
 #include "mapexport/up_estimation.h"
 
 namespace dynslam {
 namespace {
 
 using Vec3 = std::array<double, 3>;
+
+/// orbit-N: at most a full turn either way.
+constexpr double kMaxOrbitDeg = 360;
 
 Vec3 cross(const Vec3& a, const Vec3& b) {
   return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
@@ -70,6 +74,13 @@ ViewSpec ViewSpec::parse(const std::string& text) {
     if (num.empty() || used != num.size() || !std::isfinite(v.orbit_deg)) {
       throw std::invalid_argument("bad view '" + text + "': " + usage);
     }
+    // A turn beyond a full one in either direction is a typo (1e300 degrees
+    // left no meaningful angle: a one-colour picture, issue 57).
+    if (std::abs(v.orbit_deg) > kMaxOrbitDeg) {
+      throw std::invalid_argument("bad view '" + text + "': the orbit angle must be within -" +
+                                  std::to_string(int(kMaxOrbitDeg)) + ".." +
+                                  std::to_string(int(kMaxOrbitDeg)) + " degrees");
+    }
   } else if (text.rfind("pose:", 0) == 0) {
     v.kind = Kind::kPose;
     std::string s = text.substr(5);
@@ -80,8 +91,18 @@ ViewSpec ViewSpec::parse(const std::string& text) {
     if (!(in >> x >> y >> z >> qx >> qy >> qz >> qw) || (in >> rest)) {
       throw std::invalid_argument("bad view '" + text + "': " + usage);
     }
+    // Where a map's points may lie (core/map_bounds.h); a camera thousands of
+    // km away sees nothing of any map (a one-colour picture, issue 57).
+    for (double c : {x, y, z})
+      if (!(std::abs(c) <= kMaxMapCoordinate)) {
+        std::ostringstream msg;
+        msg << "bad view '" << text << "': the camera position must lie within "
+            << kMaxMapCoordinate / 1000 << " km of the map's origin, as its points";
+        throw std::invalid_argument(msg.str());
+      }
     const double n = std::sqrt(qx * qx + qy * qy + qz * qz + qw * qw);
-    if (n < 1e-9) throw std::invalid_argument("bad view '" + text + "': zero quaternion");
+    if (!(n >= 1e-9) || !std::isfinite(n))
+      throw std::invalid_argument("bad view '" + text + "': zero or non-finite quaternion");
     v.pose = mrpt::poses::CPose3D(mrpt::math::CQuaternionDouble(qw / n, qx / n, qy / n, qz / n), x,
                                   y, z);
   } else {

@@ -16,6 +16,7 @@ PACKAGES=(
   libceres-dev                     # bundle adjustment
   libpng-dev libjpeg-dev           # PNG / JPEG frames decoded with their errors caught (rawlog/image_decoder.h)
   libgtest-dev                     # unit tests
+  clang libclang-rt-14-dev         # libFuzzer + AddressSanitizer: the fuzzing smoke test (tests/faults/fuzz)
   parallel                         # GNU parallel: runs `dynslam bench --emit-jobs` files (README, bench test)
   python3 python3-opencv python3-numpy  # only for ../shared/tools/make_dynamic_sequence.py (test data)
 )

@@ -2,14 +2,17 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <map>
 #include <stdexcept>
 
 #include "core/atomic_file.h"
+#include "core/checksum.h"
 #include "core/config_reader.h"
 #include "core/dynamic_mode.h"
 #include "core/errors.h"
+#include "core/json_reader.h"
 #include "core/shell_quote.h"
 #include "core/staged_folder.h"
 #include "core/yaml_writer.h"
@@ -38,8 +41,7 @@ void validateBenchOptions(const BenchOptions& o) {
   if (o.out_dir.empty()) throw std::invalid_argument("no output folder given");
   if (o.dynslam_binary.empty()) throw std::invalid_argument("no dynslam binary given");
   for (const auto& s : o.sequences)
-    if (!isDirectory(s) && !fileExists(s))
-      throw InputError(s, "no such sequence (expected a TUM folder or a .rawlog file)");
+    if (!isDirectory(s)) requireRegularFile(s, "sequence (a TUM folder or a .rawlog file)");
   if (!o.config.empty()) requireRegularFile(o.config, "config file");
 }
 
@@ -118,6 +120,34 @@ std::string benchJobScript(const BenchPlan& plan) {
   return script;
 }
 
+namespace {
+
+/// The plan's last line holds the CRC-32 of every line above it: a plan
+/// edited after its runs were made (another max_frames, config or list of
+/// modes) was collected as if the runs had been made for it (issue 57).
+constexpr const char* kPlanChecksumLine = "# checksum of the lines above: ";
+
+std::string withPlanChecksum(const std::string& text) {
+  return text + kPlanChecksumLine + crc32Text(crc32Of(text)) + "\n";
+}
+
+/// Throws InputError(path[:line]) unless `text` ends in its own checksum.
+void checkPlanChecksum(const std::string& path, const std::string& text) {
+  const auto at = text.rfind(kPlanChecksumLine);
+  if (at == std::string::npos || (at > 0 && text[at - 1] != '\n'))
+    throw InputError(path,
+                     "no checksum line at its end: not a plan `dynslam bench` wrote, or edited");
+  const std::size_t line = 1 + std::size_t(std::count(text.begin(), text.begin() + at, '\n'));
+  std::string stored = text.substr(at + std::strlen(kPlanChecksumLine));
+  while (!stored.empty() && (stored.back() == '\n' || stored.back() == '\r')) stored.pop_back();
+  if (stored != crc32Text(crc32Of(text.substr(0, at))))
+    throw InputError(path, line,
+                     "the plan was edited after `dynslam bench` wrote it (the lines above do not "
+                     "have this checksum): its runs were made for the plan as written");
+}
+
+}  // namespace
+
 void writeBenchPlan(const BenchPlan& plan) {
   const BenchOptions& o = plan.options;
   YamlWriter w;
@@ -128,7 +158,7 @@ void writeBenchPlan(const BenchPlan& plan) {
       .value("max_frames", o.max_frames)
       .value("config", o.config)
       .value("spread", o.spread);
-  const std::string text = w.str();
+  const std::string text = withPlanChecksum(w.str());
   // The spread configs are made before anything is written: a config that
   // does not load leaves no output folder behind.
   std::vector<std::string> spread_yaml;
@@ -187,6 +217,7 @@ BenchPlan readBenchPlan(const std::string& out_dir, const std::string& dynslam_b
       .read("config", o.config)
       .read("spread", o.spread);
   root.rejectUnknownKeys();
+  checkPlanChecksum(path, readTextFile(path));
   if (max_frames < 0) throw InputError(path, "max_frames must be >= 0");
   o.max_frames = std::size_t(max_frames);
   o.out_dir = out_dir;

@@ -3,6 +3,7 @@
 #include <mrpt/3rdparty/tclap/CmdLine.h>
 #include <mrpt/math/CQuaternion.h>
 
+#include <algorithm>
 #include <array>
 #include <cctype>
 #include <cmath>
@@ -13,7 +14,9 @@
 
 #include "cli/commands.h"
 #include "core/errors.h"
+#include "core/map_bounds.h"
 #include "core/png_file.h"
+#include "core/run_counts.h"
 #include "core/trajectory.h"
 #include "mapexport/map_data.h"
 #include "mapexport/up_estimation.h"
@@ -128,9 +131,24 @@ int renderMain(int argc, char** argv) {
       throw InputError(path, "unknown map format (use a .ply, .glb or .bt extension)");
     }
   }
-  MapData map = isOctoMapPath(path) ? occupiedCellsAsMap(*readOctoMapFile(path), path)
-                                    : readMapFile(path);
-  if (traj_arg.isSet()) map.keyframes = readTumTrajectory(traj_arg.getValue());
+  MapData map =
+      isOctoMapPath(path) ? occupiedCellsAsMap(*readOctoMapFile(path), path) : readMapFile(path);
+  if (traj_arg.isSet()) {
+    // A run's keyframes.txt or trajectory.txt cut short or edited since the
+    // run was drawn as if whole (issue 57).
+    checkRunFileAgainstReport(traj_arg.getValue());
+    map.keyframes = readTumTrajectory(traj_arg.getValue());
+  }
+  // Keyframes are framed with the points: one thousands of km away leaves
+  // the map a dot (the points' own bound, core/map_bounds.h).
+  const std::string& keyframe_source = traj_arg.isSet() ? traj_arg.getValue() : path;
+  for (std::size_t i = 0; i < map.keyframes.size(); ++i) {
+    const auto& p = map.keyframes[i].pose;
+    if (!(std::max({std::abs(p.x()), std::abs(p.y()), std::abs(p.z())}) <= kMaxMapCoordinate))
+      throw InputError(keyframe_source, "keyframe " + std::to_string(i + 1) + " lies beyond " +
+                                            std::to_string(int(kMaxMapCoordinate / 1000)) +
+                                            " km of the origin, where no map point may be");
+  }
 
   std::string up_note = "given";
   if (!o.up) {
@@ -143,6 +161,13 @@ int renderMain(int argc, char** argv) {
   }
   MapRenderer renderer(o);
   const mrpt::poses::CPose3D camera_pose = renderer.cameraPose(map, view);
+  // Nothing in view would be a picture of the background alone.
+  if (!renderer.showsAnyPoint(map, camera_pose)) {
+    const std::string what = "no point of the map lies in the view '" + view_arg.getValue() + "'";
+    if (view.kind == ViewSpec::Kind::kPose)
+      throw UsageError("--view: " + what + " of " + path + " (it looks away or is too far)");
+    throw InputError(path, what + " (the map is too large, or too small, to be framed)");
+  }
   const cv::Mat image = renderer.renderFromPose(map, camera_pose);
   writePngAtomically(out_arg.getValue(), image);
   std::printf("%s: %dx%d, %zu points, %zu keyframes, view %s, up %.4f,%.4f,%.4f (%s)\n",

@@ -68,13 +68,18 @@ bool fileExists(const std::string& path) {
   return fs::is_regular_file(path, ec);
 }
 
-void requireRegularFile(const std::string& path, const std::string& what) {
+std::string regularFileProblem(const std::string& path, const std::string& what) {
   std::error_code ec;
   const fs::file_status st = fs::status(path, ec);
-  if (fs::is_regular_file(st)) return;
-  if (!fs::exists(st)) throw InputError(path, what + " not found");
-  if (fs::is_directory(st)) throw InputError(path, "is a folder, expected a " + what);
-  throw InputError(path, "not a regular file (a device or a pipe), expected a " + what);
+  if (fs::is_regular_file(st)) return "";
+  if (!fs::exists(st)) return what + " not found";
+  if (fs::is_directory(st)) return "is a folder, expected a " + what;
+  return "not a regular file (a device or a pipe), expected a " + what;
+}
+
+void requireRegularFile(const std::string& path, const std::string& what) {
+  const std::string problem = regularFileProblem(path, what);
+  if (!problem.empty()) throw InputError(path, problem);
 }
 
 std::string readRegularFile(const std::string& path, const std::string& what,

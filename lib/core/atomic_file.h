@@ -47,6 +47,9 @@ bool isDirectory(const std::string& path);
 /// pipe), expected a WHAT" (/dev/null was "not found"; /dev/zero was read
 /// until memory ran out).
 void requireRegularFile(const std::string& path, const std::string& what = "file");
+/// What requireRegularFile would say about `path` ("" for a regular file),
+/// for errors that name another file (the list that holds the path).
+std::string regularFileProblem(const std::string& path, const std::string& what = "file");
 /// The whole of a regular file (requireRegularFile, naming it `what`), read
 /// in one call. Throws InputError(path) if it cannot be opened or read, or
 /// holds more than max_bytes ("WHAT of N bytes is too large"; checked from

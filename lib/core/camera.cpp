@@ -12,6 +12,7 @@
 #include "core/config_reader.h"
 #include "core/data_paths.h"
 #include "core/errors.h"
+#include "core/value_range.h"
 
 namespace dynslam {
 
@@ -57,22 +58,57 @@ bool PinholeCamera::sameGeometry(const PinholeCamera& o) const {
   return true;
 }
 
+namespace {
+
+/// The largest image side of any camera (and of the image decoder).
+constexpr int kMaxImageSide = 16384;
+
+/// The valid range of each real-valued camera key, quoted in the keys'
+/// comments in configs/tum_fr*.yaml. Bounds of any real camera: a focal
+/// length of 1e-300 or 1e300 px made NaN map points and crashed the export
+/// (found by fuzzing). Depth sensors store millimetres (1000 units per metre)
+/// or fifths of one (TUM: 5000); 100 still takes centimetres, and the 16-bit
+/// maximum (65535) then lies 655 m away: a depth_scale that puts it
+/// kilometres away (10: 6.5 km) made a trajectory that eval and export
+/// refuse, and one above 1e5 leaves the sensor under 0.66 m of range.
+const KeyRanges& cameraKeyRanges() {
+  static const KeyRanges ranges = {
+      {"fx", closedRange(1, 1e6)},         {"fy", closedRange(1, 1e6)},
+      {"cx", openRange(0, kMaxImageSide)}, {"cy", openRange(0, kMaxImageSide)},
+      {"k1", closedRange(-1e3, 1e3)},      {"k2", closedRange(-1e3, 1e3)},
+      {"p1", closedRange(-1e3, 1e3)},      {"p2", closedRange(-1e3, 1e3)},
+      {"k3", closedRange(-1e3, 1e3)},      {"depth_scale", closedRange(100, 1e5)},
+  };
+  return ranges;
+}
+
+}  // namespace
+
 void PinholeCamera::validate(const std::string& source) const {
-  if (width <= 0 || height <= 0) throw InputError(source, "image width/height must be positive");
-  // Bounds of any real camera: a focal length of 1e-300 or 1e300 px made
-  // NaN map points and crashed the export (found by fuzzing).
-  constexpr int kMaxSide = 16384;
-  if (width > kMaxSide || height > kMaxSide)
-    throw InputError(source, "image width/height must be at most " + std::to_string(kMaxSide));
-  if (!(fx >= 1 && fx <= 1e6) || !(fy >= 1 && fy <= 1e6))
-    throw InputError(source, "focal lengths fx, fy must be in 1..1e6 px");
-  if (!(cx > 0 && cx < width) || !(cy > 0 && cy < height))
-    throw InputError(source, "principal point (cx, cy) must lie inside the image");
-  if (!(depth_scale > 0) || !(depth_scale <= 1e6))
-    throw InputError(source, "depth_scale must be in (0, 1e6] (raw units per metre)");
-  for (double d : dist)
-    if (!(std::abs(d) <= 1e3))
-      throw InputError(source, "distortion coefficients must be in -1e3..1e3");
+  const auto fail = [&](const std::string& key, const std::string& what) {
+    failAtKey(source, "camera." + key, "camera." + key + ": " + what);
+  };
+  if (width <= 0 || width > kMaxImageSide)
+    fail("width", "must be in 1.." + std::to_string(kMaxImageSide) + " px");
+  if (height <= 0 || height > kMaxImageSide)
+    fail("height", "must be in 1.." + std::to_string(kMaxImageSide) + " px");
+  const PinholeCamera& c = *this;
+  requireOptionRanges(
+      [&](auto&& f) {
+        f("fx", c.fx);
+        f("fy", c.fy);
+        f("cx", c.cx);
+        f("cy", c.cy);
+        f("k1", c.dist[0]);
+        f("k2", c.dist[1]);
+        f("p1", c.dist[2]);
+        f("p2", c.dist[3]);
+        f("k3", c.dist[4]);
+        f("depth_scale", c.depth_scale);
+      },
+      cameraKeyRanges(), source, "camera.");
+  if (!(cx < width)) fail("cx", "the principal point must lie inside the image (cx < width)");
+  if (!(cy < height)) fail("cy", "the principal point must lie inside the image (cy < height)");
 }
 
 PinholeCamera loadCameraYaml(const std::string& path) {

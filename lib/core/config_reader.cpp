@@ -1,5 +1,6 @@
 #include "core/config_reader.h"
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -144,6 +145,12 @@ std::string prepareYamlText(const std::string& path, const std::string& text) {
   // A binary file was reported as "anchors and aliases" (found by fuzzing).
   if (text.find('\0') != std::string::npos)
     throw InputError(path, "not a text file (it holds NUL bytes)");
+  // Bytes that are not UTF-8 in a directive line made MRPT's parser
+  // (libfyaml) loop for ever ("%x\xff", found by the fuzzing smoke test):
+  // a config is UTF-8 text throughout.
+  if (const std::size_t bad = firstInvalidUtf8(text); bad != std::string::npos)
+    throw InputError(path, 1 + std::size_t(std::count(text.begin(), text.begin() + bad, '\n')),
+                     "not UTF-8 text (byte " + std::to_string(bad + 1) + ")");
   constexpr int kMaxNesting = 64;
   int depth = 0;
   bool content = false;

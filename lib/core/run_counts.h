@@ -13,4 +13,10 @@ namespace dynslam {
 /// is not valid JSON. A folder without report.json is not checked.
 void checkRunFilesAgainstReport(const std::string& run_dir);
 
+/// The same check for one file given by its path (`render --trajectory`):
+/// when `file` is a run folder's trajectory.txt, keyframes.txt or
+/// map_points.txt (a report.json beside it), it must hold the reported
+/// count; any other file is not checked.
+void checkRunFileAgainstReport(const std::string& file);
+
 }  // namespace dynslam

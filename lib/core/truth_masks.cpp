@@ -14,7 +14,7 @@ std::string truthMaskPath(const std::string& masks_dir, const std::string& rgb_s
 }
 
 cv::Mat loadTruthMask(const std::string& path, cv::Size size) {
-  if (!fileExists(path)) throw InputError(path, "ground-truth mask missing");
+  requireRegularFile(path, "ground-truth mask");  // a folder there was "missing"
   const cv::Mat m = cv::imread(path, cv::IMREAD_UNCHANGED);
   if (m.empty()) throw InputError(path, "cannot read ground-truth mask");
   if (m.type() != CV_8UC1) {

@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "core/map_bounds.h"
+
 namespace dynslam {
 
 /// What the map writers say when asked to write a map without points.
@@ -26,12 +28,8 @@ struct CloudBounds {
 };
 CloudBounds computeBounds(const ColoredCloud& cloud);
 
-/// Largest coordinate magnitude accepted in a map read from a file, in
-/// metres: RGB-D maps span metres, so anything beyond is a corrupt file.
-constexpr double kMaxMapCoordinate = 1e5;
-
 /// Throws InputError(source) naming the first point that is not finite or
-/// lies beyond kMaxMapCoordinate (NaN trips PCL's filters, inf or 1e30 leave
+/// lies beyond kMaxMapCoordinate (core/map_bounds.h) (NaN trips PCL's filters, inf or 1e30 leave
 /// nothing for a view to frame).
 void checkMapPoints(const ColoredCloud& cloud, const std::string& source);
 

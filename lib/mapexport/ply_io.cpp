@@ -5,12 +5,16 @@
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
 
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
 
 #include "core/atomic_file.h"
 #include "core/errors.h"
+#include "core/stderr_capture.h"
 #include "mapexport/ply_check.h"
 
 namespace dynslam {
@@ -33,14 +37,31 @@ void writePlyBinary(const std::string& path, const ColoredCloud& cloud) {
   if (cloud.empty())  // PCL would print "no data" and fail as if the disk did
     throw std::runtime_error(path + ": " + kEmptyMapMessage);
   AtomicPath out(path);
-  // PCL prints its own message and returns < 0 (or throws) on failure.
+  // PCL prints its own message to stderr and returns < 0 (or throws) on
+  // failure: the message is kept from the user (a read-only folder showed
+  // "[pcl::PLYWriter::writeBinary] Error during opening" before dynslam's
+  // line, issue 57) and the system's reason is given instead.
   int rc = -1;
-  try {
-    rc = pcl::io::savePLYFileBinary(out.tmp(), pc);
-  } catch (const std::exception& e) {
-    throw std::runtime_error(path + ": cannot write PLY (" + e.what() + ")");
+  std::string pcl_said;
+  {
+    StderrCapture capture;
+    try {
+      rc = pcl::io::savePLYFileBinary(out.tmp(), pc);
+    } catch (const std::exception& e) {
+      pcl_said = e.what();
+    }
+    const std::string printed = capture.finish();
+    if (pcl_said.empty()) pcl_said = printed.substr(0, printed.find('\n'));
   }
-  if (rc < 0) throw std::runtime_error(path + ": cannot write PLY");
+  if (rc < 0) {
+    // PCL does not say why it could not open the file: the system does.
+    if (std::FILE* f = std::fopen(out.tmp().c_str(), "wb"))
+      std::fclose(f);
+    else
+      pcl_said = std::strerror(errno);
+    throw std::runtime_error(path + ": cannot write PLY" +
+                             (pcl_said.empty() ? "" : " (" + pcl_said + ")"));
+  }
   // PCL reports success on a full disk: read the header back and check the
   // size before the file gets its final name.
   try {

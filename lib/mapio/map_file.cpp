@@ -11,6 +11,7 @@
 #include "core/atomic_file.h"
 #include "core/checksum.h"
 #include "core/errors.h"
+#include "core/map_bounds.h"
 #include "mapio/byte_stream.h"
 
 namespace dynslam::mapio {
@@ -36,6 +37,24 @@ double finite(double v) {
 }
 float finite(float v) { return static_cast<float>(finite(static_cast<double>(v))); }
 
+/// A position, distance or depth of a map lies within kMaxMapCoordinate of
+/// the origin (core/map_bounds.h): points at 1e300 m passed the finiteness
+/// check (issue 57).
+double bounded(double v, const char* what) {
+  if (!(std::abs(finite(v)) <= kMaxMapCoordinate)) {
+    std::ostringstream s;
+    s << what << " of " << v << " m, beyond the " << kMaxMapCoordinate / 1000 << " km a map spans";
+    throw CorruptMap(s.str());
+  }
+  return v;
+}
+
+/// How far a saved rotation may be from a rotation: tracking composes poses
+/// that leave SO(3) by rounding only (1e-15 per step), while a matrix that
+/// is not a rotation at all (a scale, a shear, a reflection) is off by
+/// tenths.
+constexpr double kRotationTolerance = 1e-6;
+
 void writePose(ByteWriter& w, const mrpt::poses::CPose3D& wc) {
   const auto H = wc.getHomogeneousMatrixVal<mrpt::math::CMatrixDouble44>();
   for (int r = 0; r < 3; ++r)
@@ -46,7 +65,23 @@ mrpt::poses::CPose3D readPose(ByteReader& r) {
   mrpt::math::CMatrixDouble44 H;
   H.setIdentity();
   for (int i = 0; i < 3; ++i)
-    for (int c = 0; c < 4; ++c) H(i, c) = finite(r.f64());
+    for (int c = 0; c < 4; ++c)
+      H(i, c) = c == 3 ? bounded(r.f64(), "a keyframe position") : finite(r.f64());
+  // The rotation block must be orthonormal with determinant +1 (a keyframe
+  // pose that is no rotation was loaded, issue 57).
+  double off = 0;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) {
+      double dot = 0;
+      for (int k = 0; k < 3; ++k) dot += H(k, i) * H(k, j);
+      off = std::max(off, std::abs(dot - (i == j ? 1.0 : 0.0)));
+    }
+  const double det = H(0, 0) * (H(1, 1) * H(2, 2) - H(1, 2) * H(2, 1)) -
+                     H(0, 1) * (H(1, 0) * H(2, 2) - H(1, 2) * H(2, 0)) +
+                     H(0, 2) * (H(1, 0) * H(2, 1) - H(1, 1) * H(2, 0));
+  if (!(off <= kRotationTolerance) || !(det > 0))
+    throw CorruptMap("a keyframe pose whose rotation is not a rotation (R'R - I off by " +
+                     std::to_string(off) + ", det " + std::to_string(det) + ")");
   return mrpt::poses::CPose3D(H);
 }
 
@@ -62,7 +97,20 @@ void writeKeyPoints(ByteWriter& w, const std::vector<cv::KeyPoint>& keys) {
   }
 }
 
-std::vector<cv::KeyPoint> readKeyPoints(ByteReader& r, std::size_t n, int levels) {
+/// Where keypoints may lie: the image for detected ones; undistorted ones
+/// within one image size around it (undistortion moves them by far less).
+struct KeyPointArea {
+  float min_x, max_x, min_y, max_y;
+  static KeyPointArea image(const PinholeCamera& c) {
+    return {0, float(c.width), 0, float(c.height)};
+  }
+  static KeyPointArea aroundImage(const PinholeCamera& c) {
+    return {-float(c.width), 2 * float(c.width), -float(c.height), 2 * float(c.height)};
+  }
+};
+
+std::vector<cv::KeyPoint> readKeyPoints(ByteReader& r, std::size_t n, int levels,
+                                        const KeyPointArea& area) {
   std::vector<cv::KeyPoint> keys(n);
   for (cv::KeyPoint& k : keys) {
     k.pt.x = finite(r.f32());
@@ -73,6 +121,12 @@ std::vector<cv::KeyPoint> readKeyPoints(ByteReader& r, std::size_t n, int levels
     k.octave = r.i32();
     k.class_id = r.i32();
     if (k.octave < 0 || k.octave >= levels) throw CorruptMap("keypoint octave out of range");
+    if (!(k.pt.x >= area.min_x && k.pt.x < area.max_x && k.pt.y >= area.min_y &&
+          k.pt.y < area.max_y)) {
+      std::ostringstream s;
+      s << "a keypoint at (" << k.pt.x << ", " << k.pt.y << ") px, outside the image";
+      throw CorruptMap(s.str());
+    }
   }
   return keys;
 }
@@ -101,13 +155,13 @@ std::shared_ptr<FeatureSet> readFeatures(ByteReader& r, std::shared_ptr<const Fr
   f->ctx = ctx;
   const std::size_t n = r.count(2 * kKeyPointBytes + kDescriptorBytes + 9);
   const bool colors = r.u8() != 0;
-  f->keys = readKeyPoints(r, n, ctx->levels);
-  f->keys_un = readKeyPoints(r, n, ctx->levels);
+  f->keys = readKeyPoints(r, n, ctx->levels, KeyPointArea::image(ctx->camera));
+  f->keys_un = readKeyPoints(r, n, ctx->levels, KeyPointArea::aroundImage(ctx->camera));
   f->descriptors = cv::Mat(static_cast<int>(n), static_cast<int>(kDescriptorBytes), CV_8UC1);
   for (std::size_t i = 0; i < n; ++i)
     r.bytes(f->descriptors.ptr<uint8_t>(static_cast<int>(i)), kDescriptorBytes);
   f->depth.resize(n);
-  for (float& d : f->depth) d = finite(r.f32());
+  for (float& d : f->depth) d = float(bounded(r.f32(), "a keypoint depth"));
   f->ur.resize(n);
   for (float& u : f->ur) u = finite(r.f32());
   f->dynamic.resize(n);
@@ -336,7 +390,7 @@ void readMapBody(ByteReader& r, Map& map, std::shared_ptr<const FrameContext> ct
   for (uint32_t k = 0; k < n_points; ++k) {
     const long id = r.i64();
     Eigen::Vector3d pos;
-    for (int i = 0; i < 3; ++i) pos[i] = finite(r.f64());
+    for (int i = 0; i < 3; ++i) pos[i] = bounded(r.f64(), "a map point position");
     cv::Mat desc;
     if (r.u8()) {
       desc = cv::Mat(1, static_cast<int>(kDescriptorBytes), CV_8UC1);
@@ -344,7 +398,8 @@ void readMapBody(ByteReader& r, Map& map, std::shared_ptr<const FrameContext> ct
     }
     Eigen::Vector3d normal;
     for (int i = 0; i < 3; ++i) normal[i] = finite(r.f64());
-    const float min_dist = finite(r.f32()), max_dist = finite(r.f32());
+    const float min_dist = float(bounded(r.f32(), "a map point's minimum distance"));
+    const float max_dist = float(bounded(r.f32(), "a map point's maximum distance"));
     KeyFrame* ref = keyframe(r.i64());
     MapPoint* p = map.restoreMapPoint(id, pos, ref);
     p->descriptor = desc;

@@ -1,5 +1,9 @@
 #include "occupancy/occupancy_config.h"
 
+#include <stdexcept>
+
+#include "core/value_range.h"
+
 namespace dynslam {
 
 std::string occupancyOptionKeys() {
@@ -16,18 +20,39 @@ OccupancyMapOptions loadOccupancyOptions(const std::string& path, OccupancyMapOp
   return o;
 }
 
+namespace {
+
+/// The valid range of each real-valued key, quoted in its comment in
+/// configs/dynslam.yaml. Below 5 mm a room's octree takes gigabytes (1 mm:
+/// over 13 GB); far above a room's size the grid writer's numbers lose their
+/// meaning (1e300 crashed). OctoMap's sensor model needs a hit above and a
+/// miss below one half. The grid heights are within a storey of the floor.
+const KeyRanges& occupancyRanges() {
+  static const KeyRanges ranges = {
+      {"resolution", closedRange(5e-3, 10)},
+      {"prob_hit", openRange(0.5, 1)},
+      {"prob_miss", openRange(0, 0.5)},
+      {"floor_min_area", leftOpenRange(0, 1000)},
+      {"grid_floor_height", closedRange(-10, 10)},
+      {"grid_robot_height", leftOpenRange(0, 10)},
+  };
+  return ranges;
+}
+
+}  // namespace
+
+ValueRange occupancyResolutionRange() {
+  for (const auto& [key, range] : occupancyRanges())
+    if (key == "resolution") return range;
+  throw std::logic_error("occupancy_map.resolution has no range");
+}
+
 void validateOccupancyOptions(const OccupancyMapOptions& o, const std::string& source) {
-  auto fail = [&](const std::string& what) { throw InputError(source, "occupancy_map: " + what); };
-  if (!(o.resolution > 0)) fail("resolution must be > 0");
-  // Below 5 mm a room's octree takes gigabytes (1 mm: over 13 GB); far above
-  // a room's size the grid writer's numbers lose their meaning (1e300 crashed).
-  if (o.resolution < 5e-3) fail("resolution below 5 mm makes no sense for RGB-D");
-  if (o.resolution > 10) fail("resolution above 10 m makes no sense for a room-scale map");
-  if (!(o.prob_hit > 0.5 && o.prob_hit < 1)) fail("prob_hit must be in (0.5, 1)");
-  if (!(o.prob_miss > 0 && o.prob_miss < 0.5)) fail("prob_miss must be in (0, 0.5)");
-  if (!(o.floor_min_area > 0)) fail("floor_min_area must be > 0");
+  requireOptionRanges([&](auto&& f) { forEachOccupancyOption(o, f); }, occupancyRanges(), source,
+                      "occupancy_map.");
   if (!(o.grid_floor_height < o.grid_robot_height)) {
-    fail("grid_floor_height (the floor) must be below grid_robot_height");
+    failAtKey(source, "occupancy_map.grid_robot_height",
+              "occupancy_map: grid_floor_height (the floor) must be below grid_robot_height");
   }
 }
 

@@ -47,6 +47,11 @@ std::string occupancyOptionKeys();
 OccupancyMapOptions loadOccupancyOptions(const std::string& path,
                                          OccupancyMapOptions defaults = {});
 
+struct ValueRange;
+/// The valid range of `resolution` (m), also required of a .bt file that
+/// `render` draws (a leaf of 1e-30 or 1e30 m gave an MRPT assertion).
+ValueRange occupancyResolutionRange();
+
 /// Throws InputError(source, ...) naming the bad key: resolution <= 0 (or
 /// below 5 mm or above 10 m), probabilities outside (0, 1) or on the wrong side of 0.5,
 /// floor_min_area <= 0, grid_floor_height >= grid_robot_height.

@@ -3,10 +3,13 @@
 #include <algorithm>
 #include <cctype>
 #include <fstream>
+#include <sstream>
 
 #include "core/atomic_file.h"
 #include "core/errors.h"
 #include "core/stderr_capture.h"
+#include "core/value_range.h"
+#include "occupancy/occupancy_config.h"
 #include "occupancy/octree_cells.h"
 
 namespace dynslam {
@@ -31,6 +34,22 @@ void writeOctoMapFile(const std::string& path, const octomap::OcTree& tree) {
       /*binary=*/true);
 }
 
+namespace {
+
+/// The line of the text header of a .bt file (before "data") that starts
+/// with `key` and a space; 0 when none does.
+std::size_t headerLine(const std::string& path, const std::string& key) {
+  std::ifstream in(path, std::ios::binary);
+  std::size_t n = 0;
+  for (std::string line; std::getline(in, line) && line != "data";) {
+    ++n;
+    if (line.rfind(key + " ", 0) == 0) return n;
+  }
+  return 0;
+}
+
+}  // namespace
+
 std::unique_ptr<octomap::OcTree> readOctoMapFile(const std::string& path) {
   requireRegularFile(path, "binary OctoMap (.bt)");
   std::ifstream in(path, std::ios::binary);
@@ -51,6 +70,14 @@ std::unique_ptr<octomap::OcTree> readOctoMapFile(const std::string& path) {
     said = said.substr(0, said.find('\n'));
     throw InputError(path,
                      "not an OctoMap binary (.bt) file" + (said.empty() ? "" : " (" + said + ")"));
+  }
+  const ValueRange resolutions = occupancyResolutionRange();
+  if (!resolutions.contains(tree->getResolution())) {
+    std::ostringstream msg;
+    msg << "res " << tree->getResolution() << " m is outside the range " << resolutions.text()
+        << " of occupancy_map.resolution";
+    if (const std::size_t line = headerLine(path, "res")) throw InputError(path, line, msg.str());
+    throw InputError(path, msg.str());
   }
   return tree;
 }

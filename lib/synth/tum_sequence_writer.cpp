@@ -1,13 +1,12 @@
 #include "synth/tum_sequence_writer.h"
 
-#include <opencv2/imgcodecs.hpp>
-
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <stdexcept>
 
 #include "core/atomic_file.h"
+#include "core/png_file.h"
 #include "core/staged_folder.h"
 #include "core/trajectory.h"
 #include "synth/synthetic_sequence.h"
@@ -22,9 +21,8 @@ std::string stamp(double t) {
   return buf;
 }
 
-void writeImage(const std::string& path, const cv::Mat& im, const std::vector<int>& params = {}) {
-  if (!cv::imwrite(path, im, params)) throw std::runtime_error("synth: cannot write " + path);
-}
+/// PNG compression of the frames: fast, the sequences are large.
+constexpr int kFramePngCompression = 1;
 
 }  // namespace
 
@@ -60,9 +58,11 @@ int writeTumSequence(SyntheticSequence& seq, const std::string& out_dir,
   for (int i = 0; i < n; ++i) {
     const SyntheticFrame f = seq.frame(i);
     const std::string ts = stamp(f.timestamp);
-    writeImage(dir + "/rgb/" + ts + ".png", f.rgb, {cv::IMWRITE_PNG_COMPRESSION, 1});
-    writeImage(dir + "/depth/" + ts + ".png", f.depth, {cv::IMWRITE_PNG_COMPRESSION, 1});
-    if (masks) writeImage(dir + "/masks/" + ts + ".png", f.mask);
+    // Encoded in memory and written with a checked stream: cv::imwrite let
+    // libpng print to stderr on a full disk (issue 57).
+    writePngAtomically(dir + "/rgb/" + ts + ".png", f.rgb, kFramePngCompression);
+    writePngAtomically(dir + "/depth/" + ts + ".png", f.depth, kFramePngCompression);
+    if (masks) writePngAtomically(dir + "/masks/" + ts + ".png", f.mask);
     rgb_txt << ts << " rgb/" << ts << ".png\n";
     depth_txt << ts << " depth/" << ts << ".png\n";
     truth.push_back({f.timestamp, f.pose_wc});

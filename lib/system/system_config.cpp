@@ -11,6 +11,7 @@
 #include "core/data_paths.h"
 #include "core/yaml_writer.h"
 #include "system/slam_config_options.h"
+#include "system/slam_config_ranges.h"
 
 namespace dynslam {
 
@@ -33,10 +34,10 @@ void validateSlamConfig(const SlamConfig& c, const std::string& path) {
   const auto require = [&](bool ok, const std::string& key, const std::string& rule) {
     if (!ok) failAtKey(path, key, key + ": " + rule + " required");
   };
+  requireSlamConfigRanges(c, path);
   const OrbParams& orb = c.orb;
   require(orb.n_features >= 50 && orb.n_features <= 100000, "orb.n_features", "50 ... 100000");
   require(orb.n_levels >= 1 && orb.n_levels <= 32, "orb.n_levels", "1 ... 32");
-  require(orb.scale_factor > 1.0f && orb.scale_factor <= 2.0f, "orb.scale_factor", "> 1 and <= 2");
   // The smallest pyramid level must stay a usable image (OpenCV asserts on
   // an empty one).
   require(std::pow(double(orb.scale_factor), orb.n_levels - 1) <= 8.0, "orb.n_levels",
@@ -100,7 +101,7 @@ template <typename T>
 void checkNotNegative(const std::string& key, const T& value, const std::string& path) {
   if constexpr (std::is_arithmetic_v<T> && !std::is_same_v<T, bool>) {
     if (value < 0 && key != "occupancy_map.grid_floor_height")
-      throw InputError(path, key + ": must not be negative (got " + formatNumber(value) + ")");
+      failAtKey(path, key, key + ": must not be negative (got " + formatNumber(value) + ")");
   }
 }
 

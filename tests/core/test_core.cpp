@@ -372,7 +372,11 @@ TEST(Messages, PrintableLineEscapesControlBytesAndCapsTheLength) {
   EXPECT_EQ(printableLine(std::string("class '\x1b[2J\x01\x7f' x", 16)),
             "class '\\x1b[2J\\x01\\x7f' x");
   EXPECT_EQ(printableLine("caf\xc3\xa9.png: not found"), "caf\xc3\xa9.png: not found");
-  EXPECT_EQ(printableLine(std::string(10, 'a'), 4), "aaaa...");
+  // Capped by its middle: a quarter before, three quarters after (issue 57:
+  // a long path pushed the reason out of the line).
+  EXPECT_EQ(printableLine("abcdefghij", 4), "a...hij");
+  EXPECT_EQ(printableLine(std::string(3000, 'p') + ": not found").substr(2000 / 4),
+            "..." + std::string(1500 - 11, 'p') + ": not found");
   EXPECT_EQ(printableLine(std::string("a\0b", 3)), "a\\x00b");
   // Bytes that are not UTF-8 (a rawlog of random bytes quoted as a class
   // name reached the terminal raw, found by fuzzing): a lone continuation

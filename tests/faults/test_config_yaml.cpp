@@ -71,6 +71,15 @@ TEST_F(BadYaml, DeeplyNestedCompactSequences) {
   expectRejected(deep + "1\n", false, ":1:");
   expectRejected("camera:\n" + deep + "1\n", true, ":2:");
 }
+// A byte that is not UTF-8 in a directive line made MRPT's parser loop for
+// ever (found by the fuzzing smoke test, issue 57; without the check this
+// test hangs until CTest's timeout); in a comment it was taken silently. A
+// config is UTF-8 text: the line of the first bad byte is named.
+TEST_F(BadYaml, BytesThatAreNotUtf8) {
+  expectRejected("%x\xff\n", false, ":1:");
+  expectRejected("orb:\n  n_features: 1000 # caf\xe9\n", false, ":2:");
+  expectRejected(std::string(kCamera) + "  name: \xc3(\n", true, ":9:");
+}
 TEST_F(BadYaml, DeeplyNestedCameraMaps) {
   expectRejected("camera: " + std::string(30000, '{') + "\n", true, ":1:");
 }

@@ -9,10 +9,10 @@
 #include <iterator>
 #include <limits>
 #include <memory>
-#include <random>
 
 #include "core/errors.h"
 #include "mapio/map_file.h"
+#include "testing/random_features.h"
 #include "testing/test_support.h"
 
 using namespace dynslam;
@@ -24,31 +24,10 @@ constexpr uint64_t kVoc = 0x1234abcd5678ef00ull;
 constexpr int kKeyPoints = 60;
 constexpr int kKeyFrames = 12;
 
-std::shared_ptr<const FrameContext> ctx() {
-  static const std::shared_ptr<const FrameContext> c = idealFrameContext();
-  return c;
-}
+std::shared_ptr<const FrameContext> ctx() { return test::idealContext(); }
 
-/// kKeyPoints keypoints with random positions, descriptors, depths and
-/// colours; every fifth flagged dynamic.
 std::shared_ptr<FeatureSet> features(unsigned seed) {
-  auto fs = std::make_shared<FeatureSet>();
-  fs->ctx = ctx();
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<float> u(10.f, 470.f), z(0.5f, 4.f);
-  fs->descriptors = cv::Mat(kKeyPoints, 32, CV_8UC1);
-  cv::randu(fs->descriptors, 0, 256);
-  for (int i = 0; i < kKeyPoints; ++i) {
-    cv::KeyPoint k(u(rng) + 100.f, u(rng), 31.f, u(rng) / 2, u(rng) / 1000, i % 8, -1);
-    fs->keys.push_back(k);
-    fs->keys_un.push_back(k);
-    fs->depth.push_back(i % 7 == 0 ? -1.f : z(rng));
-    fs->ur.push_back(fs->depth.back() > 0 ? k.pt.x - 40.f / fs->depth.back() : -1.f);
-    fs->dynamic.push_back(i % 5 == 0);
-    fs->colors.emplace_back(i, 2 * i, 255 - i);
-  }
-  fs->buildGrids();
-  return fs;
+  return test::randomFeatures(kKeyPoints, seed);
 }
 
 /// kKeyFrames keyframes along x, points observed by two or three of them

@@ -1,0 +1,47 @@
+#include "system/slam_config_ranges.h"
+
+#include "core/value_range.h"
+#include "system/slam_config_options.h"
+#include "system/system_config.h"
+
+namespace dynslam {
+
+namespace {
+
+/// By dotted key. Shares (ratios) lie in [0, 1]; a chi-square outlier
+/// threshold of 0 makes every match an outlier and loses every frame, one
+/// above 100 (sigma 10 at the finest level) makes none; a search window
+/// wider than 200 px, or a local-map window factor above 50, matches across
+/// the whole image; bf is fx times a baseline of at most a couple of metres.
+const std::vector<std::pair<std::string, KeyRanges>>& slamConfigRanges() {
+  static const std::vector<std::pair<std::string, KeyRanges>> ranges = {
+      {"system",
+       {{"bf", leftOpenRange(0, 1000)},
+        {"close_depth", closedRange(0, 100)},
+        {"depth_edge_ratio", leftOpenRange(0, 1)}}},
+      {"orb", {{"scale_factor", leftOpenRange(1, 2)}}},
+      {"tracker",
+       {{"motion_search_radius", leftOpenRange(0, 200)},
+        {"local_search_radius", leftOpenRange(0, 50)},
+        {"kf_ref_ratio", closedRange(0, 1)}}},
+      {"pose_optimizer",
+       {{"chi2_mono", leftOpenRange(0, 100)}, {"chi2_stereo", leftOpenRange(0, 100)}}},
+      {"local_mapper",
+       {{"min_found_ratio", closedRange(0, 1)}, {"redundant_ratio", leftOpenRange(0, 1)}}},
+      {"local_mapper.bundle_adjustment",
+       {{"chi2_mono", leftOpenRange(0, 100)}, {"chi2_stereo", leftOpenRange(0, 100)}}},
+      {"loop_closing", {{"ratio", leftOpenRange(0, 1)}}},
+  };
+  return ranges;
+}
+
+}  // namespace
+
+void requireSlamConfigRanges(const SlamConfig& config, const std::string& path) {
+  forEachSlamConfigSection(config, [&](const std::string& section, auto&& for_each) {
+    for (const auto& [name, ranges] : slamConfigRanges())
+      if (name == section) requireOptionRanges(for_each, ranges, path, section + ".");
+  });
+}
+
+}  // namespace dynslam
