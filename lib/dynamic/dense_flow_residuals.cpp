@@ -7,6 +7,11 @@
 
 namespace dynslam {
 namespace {
+// The camera's motion explains a keypoint when the previous image's patch
+// where that motion puts it matches within twice the cost of the patch where
+// the flow puts it (DIS smears a mover's flow onto the static pixels beside
+// it; a patch that matches that well is the same surface).
+constexpr float kStaticCostShare = 0.5f;
 /// Sum of absolute differences of the 5x5 patches around a in A and b in
 /// B (sub-pixel, borders replicated).
 float patchCost(const cv::Mat& A, cv::Point2f a, const cv::Mat& B, cv::Point2f b) {
@@ -62,7 +67,8 @@ std::vector<float> DenseFlowResiduals::residuals(const std::vector<cv::KeyPoint>
     const cv::Point2f at_static(float(cur[k].x + (u - ucur[k].x)) / scale,
                                 float(cur[k].y + (v - ucur[k].y)) / scale);
     const cv::Point2f mine = cur[k] / scale, at_flow = prev[k] / scale;
-    out[k] = 0.5f * patchCost(cur_, mine, prev_, at_static) <= patchCost(cur_, mine, prev_, at_flow)
+    out[k] = kStaticCostShare * patchCost(cur_, mine, prev_, at_static) <=
+                     patchCost(cur_, mine, prev_, at_flow)
                  ? 0.f
                  : e;
   }

@@ -7,6 +7,12 @@
 #include <stdexcept>
 
 namespace dynslam {
+namespace {
+// A depth-connected part of a box's band is the object's when its share of
+// the box centre is at least this of the largest part's (a limb apart from
+// the torso), not a sliver of background.
+constexpr double kMinCenterShare = 0.1;
+}  // namespace
 
 float BoxDepthMasker::objectDepth(const cv::Mat& depth, double depth_scale,
                                   const cv::Rect& box) const {
@@ -136,7 +142,7 @@ void BoxDepthMasker::keepObjectComponents(const cv::Mat& depth, cv::Mat& band) c
   in_center[0] = 0;
   const int best = *std::max_element(in_center.begin(), in_center.end());
   std::vector<uint8_t> keep(n, 0);
-  for (int l = 1; l < n; ++l) keep[l] = best > 0 && in_center[l] >= 0.1 * best;
+  for (int l = 1; l < n; ++l) keep[l] = best > 0 && in_center[l] >= kMinCenterShare * best;
   for (int y = 0; y < band.rows; ++y) {
     const int* l = labels.ptr<int>(y);
     uint8_t* m = band.ptr<uint8_t>(y);

@@ -13,6 +13,14 @@
 #include <stdexcept>
 
 namespace dynslam {
+namespace {
+// LK stops when an iteration moves the point less than this (px of the LK
+// image): far below the tests' pixel thresholds.
+constexpr double kLkEpsilon = 0.01;
+// A region grown from a point inside a dynamic box may reach this share of
+// the box's size beyond it (the box is the detector's estimate, not exact).
+constexpr float kBoxGrowMargin = 0.1f;
+}  // namespace
 MotionConsistencyCheck::MotionConsistencyCheck(const MotionCheckParams& params)
     : params_(params), grower_(params.grow) {}
 
@@ -56,7 +64,7 @@ std::vector<cv::Point2f> MotionConsistencyCheck::track(const MotionFrame& prev,
 
   const cv::Size win(params_.lk_window, params_.lk_window);
   const cv::TermCriteria crit(cv::TermCriteria::COUNT | cv::TermCriteria::EPS,
-                              params_.lk_iterations, 0.01);
+                              params_.lk_iterations, kLkEpsilon);
   std::vector<uint8_t> st_f, st_b;
   std::vector<float> err;
   cv::calcOpticalFlowPyrLK(prev.pyramid, cur.pyramid, p0, p1, st_f, err, win, params_.lk_max_level,
@@ -130,7 +138,7 @@ MotionResult MotionConsistencyCheck::classify(
     cv::Rect lim;  // a point inside a dynamic box grows within that box
     for (const auto& b : boxes)
       if (b.dynamic_class && b.box.contains(raw_cur[k])) {
-        const float px = 0.1f * b.box.width, py = 0.1f * b.box.height;
+        const float px = kBoxGrowMargin * b.box.width, py = kBoxGrowMargin * b.box.height;
         lim = cv::Rect(
             cv::Point(int(b.box.x - px), int(b.box.y - py)),
             cv::Point(int(b.box.x + b.box.width + px) + 1, int(b.box.y + b.box.height + py) + 1));

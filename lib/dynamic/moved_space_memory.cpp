@@ -3,6 +3,10 @@
 #include <cmath>
 
 namespace dynslam {
+namespace {
+// A cell whose decayed track count is below this holds nothing worth keeping.
+constexpr double kGoneCount = 0.01;
+}  // namespace
 
 MovedSpaceMemory::MovedSpaceMemory(const MovedSpaceParams& params) : p_(params) {}
 
@@ -43,7 +47,7 @@ void MovedSpaceMemory::forgetBefore(long frame) {
     const Cell& c = it->second;
     const bool vote_kept = c.moved_at >= 0 && frame - c.moved_at <= p_.memory_frames;
     const bool counts_gone =
-        std::pow(p_.decay, double(frame - c.updated)) * (c.moving + c.still) < 0.01;
+        std::pow(p_.decay, double(frame - c.updated)) * (c.moving + c.still) < kGoneCount;
     it = !vote_kept && counts_gone ? cells_.erase(it) : std::next(it);
   }
 }

@@ -31,6 +31,20 @@ const std::vector<std::pair<std::string, KeyRanges>>& slamConfigRanges() {
       {"local_mapper.bundle_adjustment",
        {{"chi2_mono", leftOpenRange(0, 100)}, {"chi2_stereo", leftOpenRange(0, 100)}}},
       {"loop_closing", {{"ratio", leftOpenRange(0, 1)}}},
+      // The dynamic stage: a detector threshold of 0 keeps every box and one
+      // of 1 none; motion thresholds above 100 px flag nothing; depth bands
+      // and offsets beyond 10 m span any indoor scene.
+      {"dynamic", {{"max_map_inliers_flagged", leftOpenRange(0, 1)}}},
+      {"dynamic.detector", {{"conf_threshold", openRange(0, 1)}, {"nms_iou", leftOpenRange(0, 1)}}},
+      {"dynamic.box_mask",
+       {{"depth_band_m", leftOpenRange(0, 10)}, {"connected_step", closedRange(0, 1)}}},
+      {"dynamic.motion_check",
+       {{"epipolar_threshold_px", leftOpenRange(0, 100)},
+        {"reprojection_threshold_px", leftOpenRange(0, 100)},
+        {"region_min_dynamic_ratio", closedRange(0, 1)},
+        {"max_seed_distance_px", closedRange(0, 10000)}}},
+      {"dynamic.motion_check.region_grow",
+       {{"step_tolerance", leftOpenRange(0, 1)}, {"max_depth_offset_m", leftOpenRange(0, 10)}}},
   };
   return ranges;
 }

@@ -1,6 +1,7 @@
 #pragma once
 // The valid range of every real-valued key of the SLAM sections of a config
-// (system, orb, tracker, pose_optimizer, local_mapper, loop_closing; the
+// (system, orb, tracker, pose_optimizer, local_mapper, loop_closing,
+// dynamic; the
 // map_export and occupancy_map sections keep theirs beside their own option
 // lists), in one table whose text configs/dynslam.yaml quotes: absurd values
 // (ratios above 1, thresholds of 0 that lose every frame, search radii of

@@ -55,37 +55,22 @@ void validateSlamConfig(const SlamConfig& c, const std::string& path) {
   require(d.max_flow_points >= 0 && d.max_flow_points <= 100000, "dynamic.max_flow_points",
           "0 ... 100000");
   require(d.carry_frames >= 0 && d.carry_frames <= 255, "dynamic.carry_frames", "0 ... 255");
-  require(d.max_map_inliers_flagged > 0 && d.max_map_inliers_flagged <= 1,
-          "dynamic.max_map_inliers_flagged", "> 0 and <= 1");
   require(d.moved_space.memory_frames >= 0, "dynamic.moved_space_frames", ">= 0");
   require(d.detector_interval >= 1, "dynamic.detector.interval_frames", ">= 1");
   require(c.localisation.detector_interval_frames >= 0, "localisation.detector_interval_frames",
           ">= 0");
   require(c.mapper.ba_lag_frames >= 1, "local_mapper.ba_lag_frames", ">= 1");
-  require(d.box_mask.depth_band_m > 0, "dynamic.box_mask.depth_band_m", "> 0");
-  require(d.box_mask.connected_step >= 0 && d.box_mask.connected_step <= 1,
-          "dynamic.box_mask.connected_step", "0 ... 1");
   require(d.carrier.max_age_frames >= 0, "dynamic.box_carrier.max_age_frames", ">= 0");
-  const MotionCheckParams& mc = d.motion;
-  require(mc.epipolar_threshold_px > 0, "dynamic.motion_check.epipolar_threshold_px", "> 0");
-  require(mc.reprojection_threshold_px > 0, "dynamic.motion_check.reprojection_threshold_px",
-          "> 0");
-  require(mc.region_min_dynamic_ratio >= 0 && mc.region_min_dynamic_ratio <= 1,
-          "dynamic.motion_check.region_min_dynamic_ratio", "0 ... 1");
-  require(mc.max_seed_distance_px >= 0, "dynamic.motion_check.max_seed_distance_px", ">= 0");
-  require(mc.grow.step_tolerance > 0, "dynamic.motion_check.region_grow.step_tolerance", "> 0");
-  require(mc.grow.max_depth_offset_m > 0, "dynamic.motion_check.region_grow.max_depth_offset_m",
-          "> 0");
   // Iteration counts far beyond any use run for hours (rounds 100000: 20
   // frames took over a minute); thread counts beyond a machine's cores only
   // make Ceres complain.
   require(c.pose_optimizer.rounds <= 100, "pose_optimizer.rounds", "<= 100");
   require(c.pose_optimizer.iterations_per_round <= 1000, "pose_optimizer.iterations_per_round",
           "<= 1000");
-  require(c.mapper.ba.iterations_first <= 1000,
-          "local_mapper.bundle_adjustment.iterations_first", "<= 1000");
-  require(c.mapper.ba.iterations_second <= 1000,
-          "local_mapper.bundle_adjustment.iterations_second", "<= 1000");
+  require(c.mapper.ba.iterations_first <= 1000, "local_mapper.bundle_adjustment.iterations_first",
+          "<= 1000");
+  require(c.mapper.ba.iterations_second <= 1000, "local_mapper.bundle_adjustment.iterations_second",
+          "<= 1000");
   require(c.mapper.ba.threads <= 256, "local_mapper.bundle_adjustment.threads", "<= 256");
   require(c.system.final_ba_iterations <= 1000, "system.final_ba_iterations", "<= 1000");
   validateDenseMapOptions(c.map_export, path);

@@ -1,4 +1,4 @@
-// Every real-valued key outside the dynamic stage has a valid range, quoted
+// Every real-valued key has a valid range, quoted
 // in its comment in configs/dynslam.yaml or configs/tum_fr*.yaml and checked
 // at load: a value outside it is one error line naming the file and the
 // key's line, exit 1 (issue 57: a depth_scale making the scene kilometres
@@ -22,7 +22,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-/// The real-valued keys outside `dynamic:`, by hand from the option lists.
+/// The real-valued keys, by hand from the option lists.
 const char* const kRealKeys[] = {
     "system.bf",
     "system.close_depth",
@@ -38,6 +38,17 @@ const char* const kRealKeys[] = {
     "local_mapper.bundle_adjustment.chi2_mono",
     "local_mapper.bundle_adjustment.chi2_stereo",
     "loop_closing.ratio",
+    "dynamic.max_map_inliers_flagged",
+    "dynamic.detector.conf_threshold",
+    "dynamic.detector.nms_iou",
+    "dynamic.box_mask.depth_band_m",
+    "dynamic.box_mask.connected_step",
+    "dynamic.motion_check.epipolar_threshold_px",
+    "dynamic.motion_check.reprojection_threshold_px",
+    "dynamic.motion_check.region_min_dynamic_ratio",
+    "dynamic.motion_check.max_seed_distance_px",
+    "dynamic.motion_check.region_grow.step_tolerance",
+    "dynamic.motion_check.region_grow.max_depth_offset_m",
     "map_export.min_depth",
     "map_export.max_depth",
     "map_export.voxel_leaf",
