@@ -46,6 +46,17 @@ cv::Point2d distort(const PinholeCamera& c, double u, double v) {
   return {c.fx * xd + c.cx, c.fy * yd + c.cy};
 }
 
+/// Three keypoints within 2 px of (101, 100), the middle one flagged dynamic.
+std::shared_ptr<FeatureSet> threeKeypointsMiddleDynamic() {
+  auto fs = std::make_shared<FeatureSet>();
+  fs->ctx = makeContext(ideal());
+  fs->keys = {kp(100, 100), kp(101, 101), kp(102, 99)};
+  fs->descriptors = cv::Mat::zeros(3, 32, CV_8UC1);
+  fs->dynamic = {0, 1, 0};
+  fs->finalize(cv::Mat());
+  return fs;
+}
+
 }  // namespace
 
 TEST(FrameContext, Fr1UndistortedBoundsContainImageCentre) {
@@ -194,12 +205,7 @@ TEST(FeatureSet, Fr1UndistortionInvertsTheDistortionModel) {
 }
 
 TEST(FeatureSet, DynamicKeypointsLeftOutOfGrid) {
-  auto fs = std::make_shared<FeatureSet>();
-  fs->ctx = makeContext(ideal());
-  fs->keys = {kp(100, 100), kp(101, 101), kp(102, 99)};
-  fs->descriptors = cv::Mat::zeros(3, 32, CV_8UC1);
-  fs->dynamic = {0, 1, 0};
-  fs->finalize(cv::Mat());
+  const auto fs = threeKeypointsMiddleDynamic();
   auto found = fs->featuresInArea(100, 100, 10);
   std::sort(found.begin(), found.end());
   EXPECT_EQ(found, (std::vector<int>{0, 2}));
@@ -217,12 +223,7 @@ TEST(FeatureSet, DynamicKeypointsLeftOutOfGrid) {
 // commits it): moving keypoints leave the grid, unsure ones stay in it, and
 // the original is untouched. Labels of another frame are refused.
 TEST(FeatureSet, WithLabelsRelabelsACopy) {
-  auto fs = std::make_shared<FeatureSet>();
-  fs->ctx = makeContext(ideal());
-  fs->keys = {kp(100, 100), kp(101, 101), kp(102, 99)};
-  fs->descriptors = cv::Mat::zeros(3, 32, CV_8UC1);
-  fs->dynamic = {0, 1, 0};
-  fs->finalize(cv::Mat());
+  const auto fs = threeKeypointsMiddleDynamic();
   KeypointLabels labels(3);
   labels.label = {KeypointLabel::kMoving, KeypointLabel::kStatic, KeypointLabel::kUnsure};
   labels.cues = {cue::kRegion, 0, cue::kMovedSpace};
