@@ -1,6 +1,5 @@
 #include "rawlog/bag_source.h"
 
-#include <cv_bridge/cv_bridge.h>
 #include <mrpt/math/CQuaternion.h>
 #include <mrpt/poses/CPose3D.h>
 #include <mrpt/poses/CPose3DQuat.h>
@@ -25,6 +24,7 @@
 #include "core/atomic_file.h"
 #include "core/errors.h"
 #include "core/mrpt_messages.h"
+#include "rawlog/bag_messages.h"
 #include "rawlog/image_checks.h"
 #include "rawlog/tum_folder_source.h"
 
@@ -41,12 +41,6 @@ constexpr const char* kTfType = "tf2_msgs/TFMessage";
 /// A groundtruth quaternion further from unit length is damage, not
 /// rounding (readTumTrajectory's limit for groundtruth files).
 constexpr double kMaxQuaternionNormError = 0.1;
-
-/// RGB encodings cv_bridge turns into bgr8 without loss.
-const std::set<std::string>& rgbEncodings() {
-  static const std::set<std::string> s{enc::RGB8, enc::BGR8, enc::RGBA8, enc::BGRA8, enc::MONO8};
-  return s;
-}
 
 struct TopicInfo {
   std::string type;
@@ -178,18 +172,7 @@ struct BagSource::Impl {
       rosbag::View view(bag, rosbag::TopicQuery(topics.camera_info));
       const auto info = view.begin()->instantiate<sensor_msgs::CameraInfo>();
       if (!info) throw InputError(where(topics.camera_info, 0), "not a sensor_msgs/CameraInfo");
-      camera.name = path + " " + topics.camera_info;
-      camera.width = static_cast<int>(info->width);
-      camera.height = static_cast<int>(info->height);
-      camera.fx = info->K[0];
-      camera.fy = info->K[4];
-      camera.cx = info->K[2];
-      camera.cy = info->K[5];
-      camera.dist = {0, 0, 0, 0, 0};
-      // plumb_bob is OpenCV's k1 k2 p1 p2 k3; rational_polynomial starts with them.
-      for (std::size_t k = 0; k < std::min<std::size_t>(5, info->D.size()); ++k)
-        camera.dist[k] = info->D[k];
-      camera.validate(where(topics.camera_info, 0));
+      camera = cameraFromInfo(*info, path + " " + topics.camera_info, where(topics.camera_info, 0));
     }
     if (!camera_config.empty()) {
       camera = loadCameraYaml(camera_config);
@@ -224,16 +207,15 @@ struct BagSource::Impl {
         } else {
           const auto msg = m.instantiate<sensor_msgs::Image>();
           if (!msg) throw InputError(where(topic, n), "not a sensor_msgs/Image");
-          if (is_rgb && !rgbEncodings().count(msg->encoding))
+          if (is_rgb && !isRgbEncoding(msg->encoding))
             throw InputError(where(topic, n), "unknown RGB encoding '" + msg->encoding +
-                                                  "' (expected rgb8, bgr8, rgba8, bgra8 or mono8)");
+                                                  "' (expected " + rgbEncodingList() + ")");
           if (!is_rgb) {
-            if (msg->encoding != enc::TYPE_32FC1 && msg->encoding != enc::TYPE_16UC1 &&
-                msg->encoding != enc::MONO16)
+            const std::string e = depthEncoding(msg->encoding);
+            if (e.empty())
               throw InputError(where(topic, n),
                                "unknown depth encoding '" + msg->encoding +
                                    "' (expected 32FC1 metres or 16UC1 millimetres)");
-            const std::string e = msg->encoding == enc::MONO16 ? enc::TYPE_16UC1 : msg->encoding;
             if (depth_encoding.empty()) depth_encoding = e;
             if (e != depth_encoding)
               throw InputError(where(topic, n), "depth encoding " + e + " after " + depth_encoding +
@@ -255,8 +237,7 @@ struct BagSource::Impl {
     }
     if (rgb.empty()) throw InputError(path, "no messages on the RGB topic " + topics.rgb);
     if (depth.empty()) throw InputError(path, "no messages on the depth topic " + topics.depth);
-    camera.depth_scale = depth_encoding == enc::TYPE_32FC1 ? kMetricDepthUnitsPerMetre
-                                                           : kMillimetreDepthUnitsPerMetre;
+    camera.depth_scale = depthUnitsPerMetre(depth_encoding);
     depth_units = depth_encoding == enc::TYPE_32FC1
                       ? "32FC1 metres on " + topics.depth + ", stored as " +
                             std::to_string(static_cast<int>(kMetricDepthUnitsPerMetre)) +
@@ -364,30 +345,10 @@ RGBDFrame BagSource::load(std::size_t i) const {
   f.depth_source = d.where(d.topics.depth, di);
   std::lock_guard<std::mutex> lock(d.mutex);
   try {
-    if (d.compressed_rgb) {
-      f.rgb = cv_bridge::toCvCopy(d.rgb[ri].instantiate<sensor_msgs::CompressedImage>(), enc::BGR8)
-                  ->image;
-    } else {
-      f.rgb = cv_bridge::toCvCopy(d.rgb[ri].instantiate<sensor_msgs::Image>(), enc::BGR8)->image;
-    }
-    const auto depth_msg = d.depth[di].instantiate<sensor_msgs::Image>();
-    const cv_bridge::CvImageConstPtr depth = cv_bridge::toCvShare(depth_msg);
-    if (d.depth_encoding == enc::TYPE_32FC1) {
-      // Metres to raw units; NaN, infinite, negative and out-of-range depths
-      // are "no measurement" (0), as in a TUM depth PNG.
-      constexpr double kMaxRaw = 65535.0;
-      f.depth.create(depth->image.size(), CV_16UC1);
-      for (int y = 0; y < f.depth.rows; ++y) {
-        const float* in = depth->image.ptr<float>(y);
-        uint16_t* out = f.depth.ptr<uint16_t>(y);
-        for (int x = 0; x < f.depth.cols; ++x) {
-          const double raw = std::round(static_cast<double>(in[x]) * d.camera.depth_scale);
-          out[x] = std::isfinite(raw) && raw > 0 && raw <= kMaxRaw ? static_cast<uint16_t>(raw) : 0;
-        }
-      }
-    } else {
-      f.depth = depth->image.clone();
-    }
+    f.rgb = d.compressed_rgb
+                ? bgrFromCompressed(*d.rgb[ri].instantiate<sensor_msgs::CompressedImage>())
+                : bgrFromImage(*d.rgb[ri].instantiate<sensor_msgs::Image>());
+    f.depth = depthFromImage(*d.depth[di].instantiate<sensor_msgs::Image>(), d.camera.depth_scale);
   } catch (const std::exception& e) {
     throw InputError(f.rgb_source, "cannot convert the images: " + oneLineMessage(e.what()));
   }
