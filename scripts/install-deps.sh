@@ -24,6 +24,7 @@ PACKAGES=(
   libsensor-msgs-dev libgeometry-msgs-dev libnav-msgs-dev libtf2-msgs-dev libstd-srvs-dev
   libroscpp-dev libmessage-filters-dev   # dynslam_node: topics, approximate-time sync
   ros-core python3-rosbag                # roscpp's master (roscore), rosbag play/record (node test)
+  python3-std-srvs                       # `rosservice call /dynslam/save` (std_srvs/Empty)
 )
 
 missing=()
