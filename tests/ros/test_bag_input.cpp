@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <regex>
 #include <sstream>
@@ -163,64 +164,55 @@ void expectRefused(const TempDir& dir, const std::string& bag, int exit_code,
   }
 }
 
-TEST(BadBags, TruncatedBag) {
-  const TempDir dir;
-  const std::string bag = dir / "cut.bag";
+/// A small bag (kSmallBagFrames) in `dir`, as `change` makes it.
+std::string smallBag(const TempDir& dir, const std::string& name,
+                     const std::function<void(TumBagSpec&)>& change = {}) {
   TumBagSpec spec;
   spec.frames = kSmallBagFrames;
+  if (change) change(spec);
+  const std::string bag = dir / name;
   writeTumBag(bag, spec);
+  return bag;
+}
+
+TEST(BadBags, TruncatedBag) {
+  const TempDir dir;
+  const std::string bag = smallBag(dir, "cut.bag");
   truncateFile(bag, 0.5);
   expectRefused(dir, bag, 1, "");
 }
 
 TEST(BadBags, NoImageTopics) {
   const TempDir dir;
-  const std::string bag = dir / "noimages.bag";
-  TumBagSpec spec;
-  spec.frames = kSmallBagFrames;
-  spec.images = false;
-  writeTumBag(bag, spec);
-  expectRefused(dir, bag, 1, "no image topics");
+  expectRefused(dir, smallBag(dir, "noimages.bag", [](TumBagSpec& s) { s.images = false; }), 1,
+                "no image topics");
 }
 
 TEST(BadBags, MismatchedImageSizes) {
   const TempDir dir;
-  const std::string bag = dir / "sizes.bag";
-  TumBagSpec spec;
-  spec.frames = kSmallBagFrames;
-  spec.depth_width = 320;
-  writeTumBag(bag, spec);
-  expectRefused(dir, bag, 1, spec.depth_topic);
+  expectRefused(dir, smallBag(dir, "sizes.bag", [](TumBagSpec& s) { s.depth_width = 320; }), 1,
+                TumBagSpec().depth_topic);
 }
 
 TEST(BadBags, UnknownDepthEncoding) {
   const TempDir dir;
-  const std::string bag = dir / "depthenc.bag";
-  TumBagSpec spec;
-  spec.frames = kSmallBagFrames;
-  spec.depth_encoding = "8UC2";
-  writeTumBag(bag, spec);
-  expectRefused(dir, bag, 1, spec.depth_topic);
+  expectRefused(dir,
+                smallBag(dir, "depthenc.bag", [](TumBagSpec& s) { s.depth_encoding = "8UC2"; }), 1,
+                TumBagSpec().depth_topic);
 }
 
 TEST(BadBags, UnknownRgbEncoding) {
   const TempDir dir;
-  const std::string bag = dir / "rgbenc.bag";
-  TumBagSpec spec;
-  spec.frames = kSmallBagFrames;
-  spec.rgb_encoding = "yuv422";
-  writeTumBag(bag, spec);
-  expectRefused(dir, bag, 1, spec.rgb_topic);
+  expectRefused(dir, smallBag(dir, "rgbenc.bag", [](TumBagSpec& s) { s.rgb_encoding = "yuv422"; }),
+                1, TumBagSpec().rgb_topic);
 }
 
 TEST(BadBags, SeveralRgbCandidatesWithoutRgbTopicListsThemWithCounts) {
   const TempDir dir;
-  const std::string bag = dir / "two.bag";
-  TumBagSpec spec;
-  spec.frames = kSmallBagFrames;
-  spec.rgb_topic = "/left/image_raw";
-  spec.extra_image_topics = {"/right/image_raw"};
-  writeTumBag(bag, spec);
+  const std::string bag = smallBag(dir, "two.bag", [](TumBagSpec& s) {
+    s.rgb_topic = "/left/image_raw";
+    s.extra_image_topics = {"/right/image_raw"};
+  });
   const std::string counts = "(Image, " + std::to_string(kSmallBagFrames) + " messages)";
   expectRefused(dir, bag, 2, "/left/image_raw " + counts);
   expectRefused(dir, bag, 2, "/right/image_raw " + counts);
@@ -232,11 +224,7 @@ TEST(BadBags, SeveralRgbCandidatesWithoutRgbTopicListsThemWithCounts) {
 
 TEST(BadBags, UnknownTopicOptionIsAUsageError) {
   const TempDir dir;
-  const std::string bag = dir / "tum.bag";
-  TumBagSpec spec;
-  spec.frames = kSmallBagFrames;
-  writeTumBag(bag, spec);
-  expectRefused(dir, bag, 2, "/nope", {"--depth-topic", "/nope"});
+  expectRefused(dir, smallBag(dir, "tum.bag"), 2, "/nope", {"--depth-topic", "/nope"});
 }
 
 TEST(BadBags, TopicOptionsOnAFolderAreAUsageError) {
