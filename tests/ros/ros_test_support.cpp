@@ -1,6 +1,8 @@
 #include "ros_test_support.h"
 
+#include <fcntl.h>
 #include <gtest/gtest.h>
+#include <sys/file.h>
 #include <unistd.h>
 
 #include <filesystem>
@@ -32,11 +34,30 @@ std::string cacheDir() {
 
 std::string selfExe() { return fs::read_symlink("/proc/self/exe").string(); }
 
+/// Holds an exclusive lock on `path` (created if missing) for its lifetime:
+/// tests run at once (ctest -j) make a cached bag or run once, not twice
+/// into the same place.
+class FileLock {
+ public:
+  explicit FileLock(const std::string& path) : fd_(::open(path.c_str(), O_CREAT | O_RDWR, 0644)) {
+    if (fd_ >= 0) ::flock(fd_, LOCK_EX);
+  }
+  ~FileLock() {
+    if (fd_ >= 0) ::close(fd_);  // releases the lock
+  }
+  FileLock(const FileLock&) = delete;
+  FileLock& operator=(const FileLock&) = delete;
+
+ private:
+  int fd_;
+};
+
 }  // namespace
 
 std::string cachedBag(const std::string& name, const TumBagSpec& spec) {
   const std::string path =
       cacheDir() + "/" + name + "_" + std::to_string(mtime(selfExe())) + ".bag";
+  const FileLock lock(path + ".lock");
   if (fs::exists(path)) return path;
   // Written beside and renamed: a test running at the same time sees no half bag.
   const std::string tmp = path + ".tmp" + std::to_string(::getpid()) + ".bag";
@@ -50,6 +71,7 @@ std::string cachedRun(const std::string& name, const std::string& input,
   const std::string dir = cacheDir() + "/run_" + name + "_" +
                           std::to_string(mtime(dynslamBinary())) + "_" +
                           std::to_string(mtime(selfExe()));
+  const FileLock lock(dir + ".lock");
   if (fs::exists(dir + "/trajectory.txt")) return dir;
   std::vector<std::string> all{"run", input, "-o", dir};
   all.insert(all.end(), args.begin(), args.end());
@@ -67,6 +89,7 @@ std::string millimetreFolderRun() {
   const TumFolderSource src(rpyDir(), sourceDir() + "/configs/tum_fr1.yaml");
   const std::string dir =
       cacheDir() + "/rgbd_dataset_freiburg1_rpy_mm_" + std::to_string(mtime(selfExe()));
+  const FileLock lock(dir + ".lock");
   if (!fs::exists(dir)) {
     const std::string tmp = dir + ".tmp" + std::to_string(::getpid());
     fs::create_directories(tmp + "/depth");
