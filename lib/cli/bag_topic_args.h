@@ -6,7 +6,9 @@
 
 #include <string>
 
-#include "rawlog/sequence_source.h"
+namespace dynslam {
+struct BagTopics;  // rawlog/sequence_source.h
+}
 
 namespace dynslam::cli {
 
@@ -29,7 +31,7 @@ class BagTopicArgs {
               "one); --camera replaces it",
               false, "", "TOPIC", cmd) {}
 
-  BagTopics value() { return {rgb_.getValue(), depth_.getValue(), info_.getValue()}; }
+  BagTopics value();
 
  private:
   TCLAP::ValueArg<std::string> rgb_, depth_, info_;
