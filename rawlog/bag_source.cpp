@@ -178,7 +178,7 @@ struct BagSource::Impl {
       camera = loadCameraYaml(camera_config);
     } else if (topics.camera_info.empty()) {
       throw InputError(path, "no sensor_msgs/CameraInfo topic for " + topics.rgb +
-                                 "; give the camera with --camera CAMERA.yaml");
+                                 "; give a camera YAML (run --camera, convert --config)");
     }
   }
 

@@ -16,6 +16,7 @@
 #include <sstream>
 
 #include "../faults/fault_support.h"
+#include "core/camera.h"
 #include "rawlog/bag_source.h"
 #include "rawlog/tum_folder_source.h"
 #include "ros_test_support.h"
@@ -220,6 +221,24 @@ TEST(BadBags, SeveralRgbCandidatesWithoutRgbTopicListsThemWithCounts) {
   const SplitCommandResult r = runDynslamSplit(
       {"convert", bag, dir / "ok.rawlog", "--quiet", "--rgb-topic", "/right/image_raw"});
   EXPECT_EQ(r.exit_code, 0) << r.err;
+}
+
+TEST(BadBags, NoCameraInfoNeedsACameraFile) {
+  const TempDir dir;
+  const std::string bag = smallBag(dir, "noinfo.bag", [](TumBagSpec& s) {
+    s.camera_info = false;
+    s.depth_encoding = "16UC1";
+  });
+  expectRefused(dir, bag, 1, "no sensor_msgs/CameraInfo topic");
+  // With the camera given, the bag converts; its depth units follow the
+  // encoding (16UC1: mm), not the YAML's depth_scale (TUM's 5000).
+  const SplitCommandResult r = runDynslamSplit({"convert", bag, dir / "ok.rawlog", "--quiet",
+                                                "--config", sourceDir() + "/configs/tum_fr1.yaml"});
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  const BagSource src(bag, sourceDir() + "/configs/tum_fr1.yaml");
+  EXPECT_EQ(src.camera().depth_scale, kRosDepthUnitsPerMetre);
+  EXPECT_EQ(src.camera().fx, loadCameraYaml(sourceDir() + "/configs/tum_fr1.yaml").fx);
+  EXPECT_EQ(src.size(), kSmallBagFrames);
 }
 
 TEST(BadBags, UnknownTopicOptionIsAUsageError) {

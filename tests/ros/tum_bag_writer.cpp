@@ -62,7 +62,7 @@ std::vector<double> writeTumBag(const std::string& path, const TumBagSpec& spec)
     info.K = {cam.fx, 0, cam.cx, 0, cam.fy, cam.cy, 0, 0, 1};
     info.R = {1, 0, 0, 0, 1, 0, 0, 0, 1};
     info.P = {cam.fx, 0, cam.cx, 0, 0, cam.fy, cam.cy, 0, 0, 0, 1, 0};
-    bag.write("/camera/rgb/camera_info", rt, info);
+    if (spec.camera_info) bag.write("/camera/rgb/camera_info", rt, info);
     if (!spec.images) continue;
 
     const RGBDFrame f = src.load(i);

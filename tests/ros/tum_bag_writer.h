@@ -22,6 +22,7 @@ struct TumBagSpec {
   bool compressed_rgb = false;           ///< CompressedImage with the original JPEG bytes
   bool groundtruth = true;               ///< /tf world -> kinect over the frames' time span
   bool images = true;                    ///< false: only camera_info and /tf
+  bool camera_info = true;               ///< false: no /camera/rgb/camera_info
   int depth_width = 0;                   ///< > 0: depth images resized (mismatched sizes)
   std::string rgb_topic = "/camera/rgb/image_color";
   std::string depth_topic = "/camera/depth/image";
