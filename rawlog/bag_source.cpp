@@ -170,6 +170,8 @@ struct BagSource::Impl {
                                    all.at(topics.camera_info).type +
                                    ", not sensor_msgs/CameraInfo");
       rosbag::View view(bag, rosbag::TopicQuery(topics.camera_info));
+      if (view.begin() == view.end())
+        throw InputError(path, "topic " + topics.camera_info + " holds no messages");
       const auto info = view.begin()->instantiate<sensor_msgs::CameraInfo>();
       if (!info) throw InputError(where(topics.camera_info, 0), "not a sensor_msgs/CameraInfo");
       camera = cameraFromInfo(*info, path + " " + topics.camera_info, where(topics.camera_info, 0));
@@ -291,8 +293,8 @@ BagSource::BagSource(const std::string& path, const std::string& camera_config,
   impl_->path = path;
   impl_->openBag();
   impl_->chooseTopics(topics);
-  impl_->readCamera(camera_config);
   try {
+    impl_->readCamera(camera_config);
     impl_->readImages();
     impl_->readGroundtruth();
   } catch (const InputError&) {
