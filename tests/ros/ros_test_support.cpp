@@ -52,11 +52,26 @@ class FileLock {
   int fd_;
 };
 
+/// CACHE/NAME@KEY. What an earlier build left under NAME with another key
+/// (bags of 300 MB, runs) is removed; a key's own files are "NAME@KEY" and
+/// "NAME@KEY.*" (its lock, temporaries).
+std::string cacheEntry(const std::string& name, const std::string& key) {
+  const std::string base = name + "@" + key;
+  std::vector<fs::path> stale;
+  for (const auto& e : fs::directory_iterator(cacheDir())) {
+    const std::string f = e.path().filename().string();
+    if (f.rfind(name + "@", 0) == 0 && f != base && f.rfind(base + ".", 0) != 0)
+      stale.push_back(e.path());
+  }
+  std::error_code ec;
+  for (const fs::path& p : stale) fs::remove_all(p, ec);
+  return cacheDir() + "/" + base;
+}
+
 }  // namespace
 
 std::string cachedBag(const std::string& name, const TumBagSpec& spec) {
-  const std::string path =
-      cacheDir() + "/" + name + "_" + std::to_string(mtime(selfExe())) + ".bag";
+  const std::string path = cacheEntry(name, std::to_string(mtime(selfExe()))) + ".bag";
   const FileLock lock(path + ".lock");
   if (fs::exists(path)) return path;
   // Written beside and renamed: a test running at the same time sees no half bag.
@@ -68,9 +83,8 @@ std::string cachedBag(const std::string& name, const TumBagSpec& spec) {
 
 std::string cachedRun(const std::string& name, const std::string& input,
                       const std::vector<std::string>& args) {
-  const std::string dir = cacheDir() + "/run_" + name + "_" +
-                          std::to_string(mtime(dynslamBinary())) + "_" +
-                          std::to_string(mtime(selfExe()));
+  const std::string dir = cacheEntry("run_" + name, std::to_string(mtime(dynslamBinary())) + "_" +
+                                                        std::to_string(mtime(selfExe())));
   const FileLock lock(dir + ".lock");
   if (fs::exists(dir + "/trajectory.txt")) return dir;
   std::vector<std::string> all{"run", input, "-o", dir};
@@ -87,8 +101,9 @@ std::string folderReferenceRun() {
 
 std::string millimetreFolderRun() {
   const TumFolderSource src(rpyDir(), sourceDir() + "/configs/tum_fr1.yaml");
+  // (freiburg1 in the name: the camera is picked from it.)
   const std::string dir =
-      cacheDir() + "/rgbd_dataset_freiburg1_rpy_mm_" + std::to_string(mtime(selfExe()));
+      cacheEntry("rgbd_dataset_freiburg1_rpy_mm", std::to_string(mtime(selfExe())));
   const FileLock lock(dir + ".lock");
   if (!fs::exists(dir)) {
     const std::string tmp = dir + ".tmp" + std::to_string(::getpid());
