@@ -36,6 +36,14 @@ class FrameMailbox {
     return f;
   }
 
+  /// The waiting frame, if any, without waiting.
+  std::optional<Frame> tryTake() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    std::optional<Frame> f = std::move(slot_);
+    slot_.reset();
+    return f;
+  }
+
   /// Wakes take() for good.
   void close() {
     {

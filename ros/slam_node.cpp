@@ -37,9 +37,10 @@ constexpr int kDefaultSyncQueue = 10;
 /// Queue of each publisher (messages not yet sent to a slow subscriber).
 constexpr int kPublisherQueue = 10;
 
+/// A synchronised message triple, not yet converted.
 struct PendingFrame {
-  RGBDFrame frame;
-  PinholeCamera camera;
+  ImageMsg::ConstPtr rgb, depth;
+  InfoMsg::ConstPtr info;
 };
 
 template <class T>
@@ -75,44 +76,55 @@ struct SlamNode::Impl {
   /// are counted as dropped when the run is saved.
   std::atomic<std::size_t> rgb_messages{0};
   std::atomic<std::size_t> synced{0};
+  std::size_t rejected = 0;  // frames convert() refused (SLAM thread)
   nav_msgs::Path path;
   std::thread worker;
 
+  /// The synchroniser's callback: hands the messages over as they are (the
+  /// SLAM thread converts them), so the ROS thread keeps up at any rate.
   void onFrame(const ImageMsg::ConstPtr& rgb, const ImageMsg::ConstPtr& depth,
                const InfoMsg::ConstPtr& info) {
     ++synced;
-    const std::string encoding = depthEncoding(depth->encoding);
-    if (encoding.empty() || !isRgbEncoding(rgb->encoding)) {
-      ROS_ERROR_THROTTLE(5,
-                         "dynslam_node: unknown encoding (RGB %s '%s', depth %s '%s'); frame "
-                         "skipped",
-                         rgb_topic.c_str(), rgb->encoding.c_str(), depth_topic.c_str(),
-                         depth->encoding.c_str());
-      return;
+    mailbox.put({rgb, depth, info});
+  }
+
+  /// The frame and camera of a message triple; nullopt (logged, counted in
+  /// `rejected`) for an unknown encoding, undecodable data or mismatched sizes.
+  std::optional<std::pair<RGBDFrame, PinholeCamera>> convert(const PendingFrame& p) {
+    const std::string encoding = depthEncoding(p.depth->encoding);
+    std::string why;
+    std::pair<RGBDFrame, PinholeCamera> out;
+    auto& [frame, camera] = out;
+    if (encoding.empty() || !isRgbEncoding(p.rgb->encoding)) {
+      why = "unknown encoding (RGB " + rgb_topic + " '" + p.rgb->encoding + "', depth " +
+            depth_topic + " '" + p.depth->encoding + "'; RGB " + rgbEncodingList() +
+            ", depth 32FC1 or 16UC1)";
+    } else {
+      try {
+        camera =
+            camera_override ? *camera_override : cameraFromInfo(*p.info, info_topic, info_topic);
+        camera.depth_scale = depthUnitsPerMetre(encoding);
+        frame.index = next_index++;
+        frame.timestamp = p.rgb->header.stamp.toSec();
+        frame.depth_timestamp = p.depth->header.stamp.toSec();
+        frame.rgb_source = rgb_topic;
+        frame.depth_source = depth_topic;
+        frame.rgb = bgrFromImage(*p.rgb);
+        frame.depth = depthFromImage(*p.depth, camera.depth_scale);
+        const cv::Size expected(camera.width, camera.height);
+        if (frame.rgb.size() != expected || frame.depth.size() != expected)
+          why = "mismatched sizes: RGB " + std::to_string(frame.rgb.cols) + "x" +
+                std::to_string(frame.rgb.rows) + ", depth " + std::to_string(frame.depth.cols) +
+                "x" + std::to_string(frame.depth.rows) + ", camera " +
+                std::to_string(camera.width) + "x" + std::to_string(camera.height);
+      } catch (const std::exception& e) {
+        why = oneLineMessage(e.what());
+      }
     }
-    PendingFrame p;
-    try {
-      p.camera = camera_override ? *camera_override : cameraFromInfo(*info, info_topic, info_topic);
-      p.camera.depth_scale = depthUnitsPerMetre(encoding);
-      p.frame.index = next_index++;
-      p.frame.timestamp = rgb->header.stamp.toSec();
-      p.frame.depth_timestamp = depth->header.stamp.toSec();
-      p.frame.rgb_source = rgb_topic;
-      p.frame.depth_source = depth_topic;
-      p.frame.rgb = bgrFromImage(*rgb);
-      p.frame.depth = depthFromImage(*depth, p.camera.depth_scale);
-    } catch (const std::exception& e) {
-      ROS_ERROR_THROTTLE(5, "dynslam_node: frame skipped: %s", oneLineMessage(e.what()).c_str());
-      return;
-    }
-    const cv::Size expected(p.camera.width, p.camera.height);
-    if (p.frame.rgb.size() != expected || p.frame.depth.size() != expected) {
-      ROS_ERROR_THROTTLE(5, "dynslam_node: frame skipped: RGB %dx%d, depth %dx%d, camera %dx%d",
-                         p.frame.rgb.cols, p.frame.rgb.rows, p.frame.depth.cols, p.frame.depth.rows,
-                         expected.width, expected.height);
-      return;
-    }
-    mailbox.put(std::move(p));
+    if (why.empty()) return out;
+    ++rejected;
+    ROS_ERROR_THROTTLE(5, "dynslam_node: frame dropped: %s", why.c_str());
+    return std::nullopt;
   }
 
   void publish(const RGBDFrame& f, const FrameOutcome& out) {
@@ -133,6 +145,26 @@ struct SlamNode::Impl {
     if (!mask.empty()) mask_pub.publish(maskMessage(mask, f.timestamp, camera_frame));
   }
 
+  /// Runs SLAM on one frame (starting the session on the first) and publishes.
+  /// Under session_mutex.
+  void process(const PendingFrame& p) {
+    const auto converted = convert(p);
+    if (!converted) return;
+    const auto& [frame, camera] = *converted;
+    if (!session) {
+      SlamSessionOptions o;
+      o.config_path = config;
+      o.mode = mode;
+      o.source = "dynslam_node " + rgb_topic + " + " + depth_topic;
+      session = std::make_unique<SlamSession>(o, camera);
+      ROS_INFO("dynslam_node: started on %s (%dx%d, mode %s)", rgb_topic.c_str(), camera.width,
+               camera.height, dynamicModeName(mode));
+    }
+    session->addDropped(mailbox.takeDropped());
+    const FrameOutcome out = session->process(frame);
+    publish(frame, out);
+  }
+
   void run() {
     while (std::optional<PendingFrame> p = mailbox.take()) {
       std::lock_guard<std::mutex> lock(session_mutex);
@@ -141,18 +173,7 @@ struct SlamNode::Impl {
         continue;
       }
       try {
-        if (!session) {
-          SlamSessionOptions o;
-          o.config_path = config;
-          o.mode = mode;
-          o.source = "dynslam_node " + rgb_topic + " + " + depth_topic;
-          session = std::make_unique<SlamSession>(o, p->camera);
-          ROS_INFO("dynslam_node: started on %s (%dx%d, mode %s)", rgb_topic.c_str(),
-                   p->camera.width, p->camera.height, dynamicModeName(mode));
-        }
-        session->addDropped(mailbox.takeDropped());
-        const FrameOutcome out = session->process(p->frame);
-        publish(p->frame, out);
+        process(*p);
       } catch (const std::exception& e) {
         ROS_FATAL("dynslam_node: %s", oneLineMessage(e.what()).c_str());
         ros::shutdown();
@@ -165,6 +186,9 @@ struct SlamNode::Impl {
   bool save(std::string& why) {
     std::lock_guard<std::mutex> lock(session_mutex);
     if (output_dir.empty()) return why = "parameter ~output_dir is not set", false;
+    // A frame still waiting is part of the run (it came before the request).
+    if (std::optional<PendingFrame> p = mailbox.tryTake(); p && !(session && session->saved()))
+      process(*p);
     if (!session) return why = "no frame received yet", false;
     if (session->saved()) return why = "already saved to " + output_dir, false;
     session->addDropped(mailbox.takeDropped());
@@ -173,7 +197,8 @@ struct SlamNode::Impl {
     if (unpaired > 0)
       ROS_WARN("dynslam_node: %zu RGB messages never paired with depth and CameraInfo: dropped",
                unpaired);
-    session->addDropped(unpaired);
+    session->addDropped(unpaired + rejected);
+    rejected = 0;
     session->save(output_dir, save_map);
     const SessionCounts c = session->counts();
     ROS_INFO("dynslam_node: saved %s: %zu frames, %zu processed, %zu dropped, %zu tracked",
