@@ -1,16 +1,39 @@
 // openSequence / sequenceGroundtruthPath (declared in sequence_source.h):
-// a folder is a TUM sequence, a file is a rawlog.
+// a folder is a TUM sequence, a .bag file a ROS bag, any other file a rawlog.
 #include "core/atomic_file.h"
 #include "core/errors.h"
 #include "rawlog/rawlog_layout.h"
 #include "rawlog/rawlog_source.h"
 #include "rawlog/sequence_source.h"
 #include "rawlog/tum_folder_source.h"
+#ifdef DYNSLAM_WITH_ROSBAG
+#include "rawlog/bag_source.h"
+#endif
 
 namespace dynslam {
 
+bool isBagPath(const std::string& path) {
+  static const std::string ext = ".bag";
+  return path.size() > ext.size() && path.compare(path.size() - ext.size(), ext.size(), ext) == 0 &&
+         !isDirectory(path);
+}
+
 std::unique_ptr<FrameSource> openSequence(const std::string& path, const std::string& camera_config,
-                                          const std::string& sensor) {
+                                          const std::string& sensor, const BagTopics& topics) {
+  if (!topics.empty() && !isBagPath(path))
+    throw UsageError("--rgb-topic / --depth-topic: " + path + " is not a ROS bag (.bag)");
+  if (isBagPath(path)) {
+    if (!sensor.empty())
+      throw UsageError("--sensor " + sensor + ": " + path +
+                       " is a ROS bag; choose its topics with --rgb-topic and --depth-topic");
+#ifdef DYNSLAM_WITH_ROSBAG
+    return std::make_unique<BagSource>(path, camera_config, topics);
+#else
+    throw InputError(path,
+                     "is a ROS bag, but this dynslam was built without ROS 1 (run "
+                     "scripts/install-deps.sh and rebuild; see README 'With ROS')");
+#endif
+  }
   if (isDirectory(path)) {
     if (!sensor.empty())
       throw UsageError("--sensor " + sensor + ": " + path +

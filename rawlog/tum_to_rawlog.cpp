@@ -9,16 +9,24 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <stdexcept>
+
+#include "core/errors.h"
+#include "core/png_file.h"
 
 #include "core/interrupt.h"
 #include "core/mrpt_messages.h"
 #include "core/progress.h"
 #include "rawlog/mrpt_images_base.h"
 #include "rawlog/rawlog_layout.h"
+#include "rawlog/sequence_source.h"
 #include "rawlog/staged_rawlog_output.h"
 #include "rawlog/tum_folder_source.h"
+#ifdef DYNSLAM_WITH_ROSBAG
+#include "rawlog/bag_source.h"
+#endif
 
 namespace dynslam {
 namespace fs = std::filesystem;
@@ -34,12 +42,14 @@ void copyFile(const std::string& from, const std::string& to) {
   if (ec) throw std::runtime_error(to + ": cannot copy from " + from + " (" + ec.message() + ")");
 }
 
-/// Builds the observation of one frame; writes its external files into
-/// images_dir (relative names, so the folder can be renamed afterwards).
-CObservation3DRangeScan::Ptr makeObservation(const TumFolderSource& src, std::size_t i,
-                                             const RGBDFrame& f, const std::string& label,
-                                             const std::string& images_dir) {
-  const PinholeCamera& cam = src.camera();
+/// Builds the observation of one frame; writes its depth matrix into
+/// images_dir as depth_name and refers to the RGB file rgb_name there (the
+/// caller writes it; relative names, so the folder can be renamed afterwards).
+CObservation3DRangeScan::Ptr makeObservation(const PinholeCamera& cam, const RGBDFrame& f,
+                                             const std::string& label,
+                                             const std::string& images_dir,
+                                             const std::string& depth_name,
+                                             const std::string& rgb_name) {
   auto obs = CObservation3DRangeScan::Create();
   obs->sensorLabel = label;
   obs->timestamp = mrpt::Clock::fromDouble(f.timestamp);
@@ -57,8 +67,6 @@ CObservation3DRangeScan::Ptr makeObservation(const TumFolderSource& src, std::si
   for (int y = 0; y < f.depth.rows; ++y)
     std::memcpy(&obs->rangeImage(y, 0), f.depth.ptr<uint16_t>(y),
                 sizeof(uint16_t) * static_cast<std::size_t>(f.depth.cols));
-  const std::string depth_name =
-      convertedImageName("depth", i, fs::path(src.pair(i).depth.file).stem().string() + ".bin");
   {
     ImagesBaseScope base(images_dir);
     try {
@@ -68,23 +76,24 @@ CObservation3DRangeScan::Ptr makeObservation(const TumFolderSource& src, std::si
                                ": cannot write depth matrix: " + oneLineMessage(e.what()));
     }
   }
-
-  const std::string rgb_name =
-      convertedImageName("rgb", i, fs::path(src.pair(i).rgb.file).filename().string());
-  copyFile(f.rgb_source, images_dir + "/" + rgb_name);
   obs->hasIntensityImage = true;
   obs->intensityImageChannel = CObservation3DRangeScan::CH_VISIBLE;
   obs->intensityImage.setExternalStorage(rgb_name);
   return obs;
 }
 
-}  // namespace
+/// Names of frame i's files in OUT_Images/ and how its RGB file is written.
+struct FrameFiles {
+  std::string depth_name, rgb_name;
+  std::function<void(const RGBDFrame&, const std::string& rgb_path)> write_rgb;
+};
 
-ConvertSummary convertTumToRawlog(const std::string& tum_dir, const std::string& out_rawlog,
-                                  const ConvertOptions& options) {
-  const TumFolderSource src(tum_dir, options.camera_config);
-  const std::size_t n = options.max_frames ? std::min(options.max_frames, src.size()) : src.size();
-
+/// Writes frames [0, n) of `src` as a rawlog, staged: `groundtruth(tmp_path)`
+/// writes the sidecar and returns false when there is none.
+ConvertSummary writeRawlog(const FrameSource& src, std::size_t n, const std::string& out_rawlog,
+                           const ConvertOptions& options,
+                           const std::function<FrameFiles(std::size_t)>& files,
+                           const std::function<bool(const std::string&)>& groundtruth) {
   StagedRawlogOutput out(out_rawlog);
   {
     mrpt::io::CFileGZOutputStream file;
@@ -96,7 +105,10 @@ ConvertSummary convertTumToRawlog(const std::string& tum_dir, const std::string&
     for (std::size_t i = 0; i < n; ++i) {
       InterruptGuard::throwIfInterrupted();  // Ctrl-C: `out` removes the temporaries
       const RGBDFrame f = src.load(i);       // decodes and checks both images
-      const auto obs = makeObservation(src, i, f, options.sensor_label, out.tmpImagesDir());
+      const FrameFiles names = files(i);
+      const auto obs = makeObservation(src.camera(), f, options.sensor_label, out.tmpImagesDir(),
+                                       names.depth_name, names.rgb_name);
+      names.write_rgb(f, out.tmpImagesDir() + "/" + names.rgb_name);
       try {
         archive << *obs;
       } catch (const std::exception& e) {
@@ -108,8 +120,7 @@ ConvertSummary convertTumToRawlog(const std::string& tum_dir, const std::string&
     file.close();
   }
 
-  const bool has_gt = !src.groundtruthPath().empty();
-  if (has_gt) copyFile(src.groundtruthPath(), out.tmpGroundtruth());
+  const bool has_gt = groundtruth(out.tmpGroundtruth());
   out.commit(has_gt);
 
   ConvertSummary s;
@@ -118,6 +129,74 @@ ConvertSummary convertTumToRawlog(const std::string& tum_dir, const std::string&
   s.images_dir = out.imagesDir();
   if (has_gt) s.groundtruth = out.groundtruthPath();
   return s;
+}
+
+std::size_t framesToConvert(const FrameSource& src, const ConvertOptions& options) {
+  return options.max_frames ? std::min(options.max_frames, src.size()) : src.size();
+}
+
+#ifdef DYNSLAM_WITH_ROSBAG
+/// A bag's frames: RGB as lossless PNG (a bag holds pixels, not files), the
+/// groundtruth from its /tf (BagSource::groundtruth).
+ConvertSummary convertBagToRawlog(const std::string& bag, const std::string& out_rawlog,
+                                  const ConvertOptions& options) {
+  const BagSource src(bag, options.camera_config, options.topics);
+  const auto files = [&](std::size_t i) {
+    char stamp[32];
+    std::snprintf(stamp, sizeof stamp, "%.6f", src.timestamp(i));
+    FrameFiles f;
+    f.depth_name = convertedImageName("depth", i, std::string(stamp) + ".bin");
+    f.rgb_name = convertedImageName("rgb", i, std::string(stamp) + ".png");
+    f.write_rgb = [](const RGBDFrame& frame, const std::string& path) {
+      writePngAtomically(path, frame.rgb);
+    };
+    return f;
+  };
+  const auto groundtruth = [&](const std::string& tmp) {
+    if (src.groundtruth().empty()) return false;
+    src.writeGroundtruth(tmp, std::string("groundtruth of ") + bag + ": " + kTumBagTfTopic + " " +
+                                  kTumBagGroundtruthParent + " -> " + kTumBagGroundtruthChild);
+    return true;
+  };
+  return writeRawlog(src, framesToConvert(src, options), out_rawlog, options, files, groundtruth);
+}
+#endif
+
+}  // namespace
+
+ConvertSummary convertToRawlog(const std::string& input, const std::string& out_rawlog,
+                               const ConvertOptions& options) {
+  if (isBagPath(input)) {
+#ifdef DYNSLAM_WITH_ROSBAG
+    return convertBagToRawlog(input, out_rawlog, options);
+#else
+    openSequence(input);  // throws the "built without ROS" InputError
+#endif
+  }
+  if (!options.topics.empty())
+    throw UsageError("--rgb-topic / --depth-topic: " + input + " is not a ROS bag (.bag)");
+  return convertTumToRawlog(input, out_rawlog, options);
+}
+
+ConvertSummary convertTumToRawlog(const std::string& tum_dir, const std::string& out_rawlog,
+                                  const ConvertOptions& options) {
+  const TumFolderSource src(tum_dir, options.camera_config);
+  const auto files = [&](std::size_t i) {
+    FrameFiles f;
+    f.depth_name =
+        convertedImageName("depth", i, fs::path(src.pair(i).depth.file).stem().string() + ".bin");
+    f.rgb_name = convertedImageName("rgb", i, fs::path(src.pair(i).rgb.file).filename().string());
+    f.write_rgb = [](const RGBDFrame& frame, const std::string& path) {
+      copyFile(frame.rgb_source, path);
+    };
+    return f;
+  };
+  const auto groundtruth = [&](const std::string& tmp) {
+    if (src.groundtruthPath().empty()) return false;
+    copyFile(src.groundtruthPath(), tmp);
+    return true;
+  };
+  return writeRawlog(src, framesToConvert(src, options), out_rawlog, options, files, groundtruth);
 }
 
 }  // namespace dynslam

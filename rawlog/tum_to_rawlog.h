@@ -6,8 +6,12 @@
 // rangeUnits = 1/depth_scale (bit-identical values), and the TUM groundtruth is
 // copied to a "<stem>_groundtruth.txt" sidecar. Every frame is decoded and
 // checked first, and output appears only once complete (StagedRawlogOutput).
+// A ROS bag converts the same way (convertToRawlog): its RGB is written as
+// lossless PNG and its /tf groundtruth (bag_source.h) as the sidecar.
 #include <cstddef>
 #include <string>
+
+#include "rawlog/sequence_source.h"
 
 namespace dynslam {
 
@@ -16,6 +20,7 @@ struct ConvertOptions {
   std::size_t max_frames = 0;         ///< convert only the first N pairs; 0 = all
   std::string sensor_label = "RGBD";  ///< CObservation::sensorLabel
   bool show_progress = true;          ///< ProgressLine on stderr (tty only)
+  BagTopics topics;                   ///< a bag's topics (empty: chosen from the bag)
 };
 
 struct ConvertSummary {
@@ -29,5 +34,10 @@ struct ConvertSummary {
 /// written then) and std::runtime_error on output failures (nothing is left).
 ConvertSummary convertTumToRawlog(const std::string& tum_dir, const std::string& out_rawlog,
                                   const ConvertOptions& options = {});
+
+/// A TUM folder (convertTumToRawlog) or a ROS bag (a .bag file; InputError
+/// when dynslam was built without ROS). The same guarantees.
+ConvertSummary convertToRawlog(const std::string& input, const std::string& out_rawlog,
+                               const ConvertOptions& options = {});
 
 }  // namespace dynslam

@@ -19,6 +19,13 @@ PACKAGES=(
   clang libclang-rt-14-dev         # libFuzzer + AddressSanitizer: the fuzzing smoke test (tests/faults/fuzz)
   parallel                         # GNU parallel: runs `dynslam bench --emit-jobs` files (README, bench test)
   python3 python3-opencv python3-numpy  # only for ../shared/tools/make_dynamic_sequence.py (test data)
+  # ROS 1 (optional for the build, installed so CI builds and tests it; cmake/DynslamRos.cmake):
+  librosbag-storage-dev pluginlib-dev    # rosbag::Bag / View (bags as input); pluginlib: its headers
+  libcv-bridge-dev                       # ROS images <-> cv::Mat
+  libsensor-msgs-dev libgeometry-msgs-dev libnav-msgs-dev libtf2-msgs-dev libstd-srvs-dev
+  libroscpp-dev libmessage-filters-dev   # dynslam_node: topics, approximate-time sync
+  ros-core python3-rosbag                # roscpp's master (roscore), rosbag play/record (node test)
+  python3-std-srvs                       # `rosservice call /dynslam/save` (std_srvs/Empty)
 )
 
 missing=()

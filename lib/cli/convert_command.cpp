@@ -1,9 +1,10 @@
-// `dynslam convert TUM_DIR OUT.rawlog`: see rawlog/tum_to_rawlog.h.
+// `dynslam convert TUM_DIR|X.bag OUT.rawlog`: see rawlog/tum_to_rawlog.h.
 #include <mrpt/3rdparty/tclap/CmdLine.h>
 
 #include <cstdio>
 #include <string>
 
+#include "cli/bag_topic_args.h"
 #include "cli/commands.h"
 #include "core/interrupt.h"
 #include "rawlog/tum_to_rawlog.h"
@@ -17,11 +18,13 @@ int convertMain(int argc, char** argv) {
       "(paired like TUM's associate.py, |dt| < 0.02 s). Writes OUT.rawlog, the folder "
       "OUT_Images/ (original RGB files and raw 16-bit depth matrices, referenced by the "
       "rawlog) and, if the sequence has groundtruth, OUT_groundtruth.txt (TUM format). "
-      "Nothing is written unless every frame converts. Example: dynslam convert "
+      "Nothing is written unless every frame converts. A ROS bag (X.bag) converts the same way: "
+      "its RGB is stored as PNG and the motion-capture pose on /tf (world -> kinect, as in "
+      "TUM's bags) becomes OUT_groundtruth.txt. Example: dynslam convert "
       "data/rgbd_dataset_freiburg1_rpy rpy.rawlog",
       ' ', DYNSLAM_VERSION);
-  TCLAP::UnlabeledValueArg<std::string> tum_dir("TUM_DIR", "TUM RGB-D sequence folder", true, "",
-                                                "TUM_DIR", cmd);
+  TCLAP::UnlabeledValueArg<std::string> tum_dir(
+      "INPUT", "TUM RGB-D sequence folder or ROS bag (.bag)", true, "", "TUM_DIR|X.bag", cmd);
   TCLAP::UnlabeledValueArg<std::string> out(
       "OUT", "output rawlog (must end in .rawlog; replaced if it exists)", true, "", "OUT.rawlog",
       cmd);
@@ -36,6 +39,7 @@ int convertMain(int argc, char** argv) {
                                      "sensor label stored in each observation (default: RGBD)",
                                      false, "RGBD", "LABEL", cmd);
   TCLAP::SwitchArg quiet("q", "quiet", "no progress line and no summary", cmd);
+  BagTopicArgs topics(cmd);
 
   int exit_code = kOk;
   if (!parseArguments(cmd, argc, argv, exit_code)) return exit_code;
@@ -49,8 +53,9 @@ int convertMain(int argc, char** argv) {
   options.max_frames = static_cast<std::size_t>(max_frames.getValue());
   options.sensor_label = label.getValue();
   options.show_progress = !quiet.getValue();
+  options.topics = topics.value();
   InterruptGuard interrupt;  // Ctrl-C: stop, remove the temporaries, exit 130
-  const ConvertSummary s = convertTumToRawlog(tum_dir.getValue(), out.getValue(), options);
+  const ConvertSummary s = convertToRawlog(tum_dir.getValue(), out.getValue(), options);
   if (!quiet.getValue()) {
     std::printf("wrote %s: %zu frames\n  images: %s\n", s.rawlog.c_str(), s.frames,
                 s.images_dir.c_str());

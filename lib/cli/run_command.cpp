@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <string>
 
+#include "cli/bag_topic_args.h"
 #include "cli/commands.h"
 #include "core/dynamic_mode.h"
 #include "core/errors.h"
@@ -13,7 +14,7 @@ namespace dynslam::cli {
 
 int runMain(int argc, char** argv) {
   TCLAP::CmdLine cmd(
-      "Runs RGB-D SLAM on a TUM RGB-D folder or an MRPT rawlog and writes OUT_DIR/"
+      "Runs RGB-D SLAM on a TUM RGB-D folder, an MRPT rawlog or a ROS bag and writes OUT_DIR/"
       "trajectory.txt (every tracked frame, TUM format, camera-to-world, first frame at "
       "identity), keyframes.txt, map_points.txt, run_info.yaml, config_used.yaml and report.json. "
       "Frames where "
@@ -26,8 +27,8 @@ int runMain(int argc, char** argv) {
       "PREFIX/share/dynslam/configs for an installed dynslam ($DYNSLAM_DATA_DIR overrides it), "
       "the detector model from $DYNSLAM_MODELS_DIR or the config's dynamic.detector.model.",
       ' ', DYNSLAM_VERSION);
-  TCLAP::UnlabeledValueArg<std::string> input("INPUT", "TUM sequence folder or .rawlog file", true,
-                                              "", "INPUT", cmd);
+  TCLAP::UnlabeledValueArg<std::string> input(
+      "INPUT", "TUM sequence folder, .rawlog file or ROS .bag file", true, "", "INPUT", cmd);
   TCLAP::ValueArg<std::string> out("o", "out", "output folder (created if missing)", true, "",
                                    "OUT_DIR", cmd);
   TCLAP::ValueArg<std::string> config(
@@ -79,6 +80,7 @@ int runMain(int argc, char** argv) {
       "report.json dropped_frames). Shows what the machine keeps up with live; such runs do "
       "not repeat",
       cmd);
+  BagTopicArgs topics(cmd);
   int exit_code = kOk;
   if (!parseArguments(cmd, argc, argv, exit_code)) return exit_code;
   if (max_frames.isSet() && max_frames.getValue() < 1)
@@ -91,6 +93,7 @@ int runMain(int argc, char** argv) {
   o.config_path = config.getValue();
   o.camera_config = camera.getValue();
   o.sensor = sensor.getValue();
+  o.topics = topics.value();
   o.mode = *parseDynamicMode(mode.getValue());  // TCLAP admitted only the names
   o.max_frames = static_cast<std::size_t>(max_frames.getValue());
   if (localize.getValue() && !map.isSet()) throw UsageError("--localize needs --map MAP.dsm");

@@ -13,6 +13,7 @@
 #include "core/data_paths.h"
 #include "core/errors.h"
 #include "core/value_range.h"
+#include "core/yaml_writer.h"
 
 namespace dynslam {
 
@@ -154,6 +155,17 @@ std::string cameraConfigForSequence(const std::string& sequence_path) {
                      "CAMERA.yaml, convert -c CAMERA.yaml");
   }
   return configDir() + "/tum_fr" + m[2].str() + ".yaml";
+}
+
+void writeCameraYaml(const std::string& path, const PinholeCamera& c, const std::string& comment) {
+  YamlWriter y;
+  y.comment(comment).beginSection("camera");
+  y.value("name", c.name).value("width", c.width).value("height", c.height);
+  y.value("fx", c.fx).value("fy", c.fy).value("cx", c.cx).value("cy", c.cy);
+  y.value("k1", c.dist[0]).value("k2", c.dist[1]).value("p1", c.dist[2]);
+  y.value("p2", c.dist[3]).value("k3", c.dist[4]).value("depth_scale", c.depth_scale);
+  y.endSection();
+  writeFileAtomically(path, [&](std::ostream& os) { os << y.str(); });
 }
 
 }  // namespace dynslam

@@ -36,6 +36,11 @@ struct PinholeCamera {
 /// Throws InputError naming the file on missing keys or bad values.
 PinholeCamera loadCameraYaml(const std::string& path);
 
+/// Writes `camera` as a camera YAML that loadCameraYaml reads back exactly
+/// (configs/tum_fr1.yaml's keys), atomically; `comment` goes on top.
+void writeCameraYaml(const std::string& path, const PinholeCamera& camera,
+                     const std::string& comment);
+
 /// The sequence folder's own camera.yaml when it has one (rendered sequences),
 /// else configDir()/tum_fr{1,2,3}.yaml (core/data_paths.h) from a sequence path containing
 /// "freiburg1/2/3" (or "fr1/2/3"); throws InputError naming the path if none.

@@ -55,7 +55,8 @@ RunSummary runSlam(const RunOptions& opt) {
                      "loop_closing.enabled: false, but --save-map needs place recognition (a map "
                      "is found again through its bag-of-words index)");
 
-  std::unique_ptr<FrameSource> source = openSequence(opt.input, opt.camera_config, opt.sensor);
+  std::unique_ptr<FrameSource> source =
+      openSequence(opt.input, opt.camera_config, opt.sensor, opt.topics);
   std::size_t n = source->size();
   if (opt.max_frames > 0) n = std::min(n, opt.max_frames);
   // The run folder is one unit: written beside and moved into place when

@@ -26,15 +26,17 @@
 #include <string>
 
 #include "core/dynamic_mode.h"
+#include "rawlog/sequence_source.h"
 
 namespace dynslam {
 
 struct RunOptions {
-  std::string input;  ///< TUM folder or .rawlog
+  std::string input;  ///< TUM folder, .rawlog or .bag
   std::string out_dir;
   std::string config_path;    ///< empty: configs/dynslam.yaml
   std::string camera_config;  ///< empty: from the sequence
   std::string sensor;         ///< rawlog 3D sensor label; empty: its only one
+  BagTopics topics;           ///< a ROS bag's topics; empty: chosen from the bag
   DynamicMode mode = DynamicMode::kDetectAndFlow;
   std::size_t max_frames = 0;  ///< 0: all
   std::string map_path;        ///< a saved map to start in (empty: a new map)

@@ -126,3 +126,21 @@ TEST_F(Installed, DataDirOverrideIsUsedAndCheckedNamingIt) {
   const auto report = mrpt::containers::yaml::FromFile(*tmp_ / "elsewhere/o4/report.json");
   EXPECT_EQ(report["config"].as<std::string>(), data + "/configs/dynslam.yaml");
 }
+
+#ifdef DYNSLAM_TEST_ROS
+// The ROS node (issue 58): installed with its package, so that roslaunch finds
+// it from P/share on ROS_PACKAGE_PATH (`roslaunch --args` resolves the node's
+// command line without a master).
+TEST_F(Installed, RosNodeAndLaunchFileAreFoundByRoslaunch) {
+  EXPECT_TRUE(fs::is_regular_file(prefix_ + "/bin/dynslam_node"));
+  EXPECT_EQ(readText(prefix_ + "/share/dynslam/launch/dynslam.launch"),
+            readText(sourceDir() + "/ros/launch/dynslam.launch"));
+  const SplitCommandResult r = runShellSplit("env -C " + shellQuote(*tmp_ / "elsewhere") +
+                                             " ROS_PACKAGE_PATH=" + shellQuote(prefix_ + "/share") +
+                                             " roslaunch --args /dynslam dynslam dynslam.launch");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(has(r.out, prefix_ + "/share/dynslam/dynslam_node")) << r.out << r.err;
+  EXPECT_TRUE(
+      fs::equivalent(prefix_ + "/share/dynslam/dynslam_node", prefix_ + "/bin/dynslam_node"));
+}
+#endif

@@ -1,0 +1,39 @@
+#pragma once
+// dynslam_node's ROS side: subscribes to an RGB-D camera (RGB, depth and the
+// RGB CameraInfo, paired by message_filters' approximate-time policy), runs a
+// SlamSession on a thread of its own and publishes what it finds. Frames
+// that come while the tracker is busy are dropped and counted (FrameMailbox).
+//
+// Parameters (private, ~name; defaults in parentheses):
+//   rgb_topic (/camera/rgb/image_color), depth_topic (/camera/depth/image),
+//   camera_info_topic (/camera/rgb/camera_info): the TUM bags' names
+//   config (configs/dynslam.yaml), mode (detect+flow), camera (a camera YAML
+//   replacing CameraInfo's intrinsics), map_frame (map), camera_frame
+//   (camera), output_dir (where ~save writes the run folder; also written at
+//   shutdown when set and not saved yet), save_map (true), sync_queue (10).
+// Publishes (private): ~pose (geometry_msgs/PoseStamped), ~path
+//   (nav_msgs/Path), ~map_points (sensor_msgs/PointCloud2, latched, at each
+//   keyframe), ~dynamic_mask (sensor_msgs/Image mono8, modes with a filter),
+//   and the TF map_frame -> camera_frame on /tf.
+// Services: ~save (std_srvs/Empty): ends the session and writes the run
+//   folder (and map.dsm) to output_dir.
+#include <ros/ros.h>
+
+#include <memory>
+
+namespace dynslam {
+
+class SlamNode {
+ public:
+  /// Reads the parameters and subscribes. Throws InputError / UsageError
+  /// for bad parameters (the node exits with their one-line message).
+  SlamNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh);
+  /// Stops the SLAM thread; saves to output_dir if set and not saved yet.
+  ~SlamNode();
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace dynslam

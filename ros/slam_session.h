@@ -1,0 +1,77 @@
+#pragma once
+// One live SLAM session of the ROS node: the SLAM system, the dynamic filter
+// and the run's records, fed frame by frame as they arrive, and saved as a
+// run folder with the files of `dynslam run` (run_pipeline.h's layout), so
+// `dynslam export`, `render`, `eval` and `bench --collect` work on a live
+// run as on a recorded one. A live run has no input file: the frames of its
+// final keyframes are saved with it as a TUM folder (RUN/frames/, with its
+// camera.yaml), which run_info.yaml names as the input. No ROS in here: the
+// node (slam_node.h) converts messages and calls this, and the unit tests
+// call it with frames of a TUM folder.
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/dynamic_mode.h"
+#include "core/rgbd_frame.h"
+#include "system/slam_system.h"
+
+namespace dynslam {
+
+class DynamicFeatureFilter;
+class RunRecorder;
+
+/// The TUM folder of keyframe frames inside a saved live run folder.
+inline constexpr const char* kLiveFramesFolder = "frames";
+
+struct SlamSessionOptions {
+  std::string config_path;  ///< SLAM config; empty: configs/dynslam.yaml
+  DynamicMode mode = DynamicMode::kDetectAndFlow;
+  std::string source;  ///< where frames come from (run headers, report.json)
+};
+
+struct SessionCounts {
+  std::size_t received = 0;   ///< frames given to process() or counted dropped
+  std::size_t processed = 0;  ///< frames SLAM ran on
+  std::size_t dropped = 0;    ///< frames that came while SLAM was busy (no pose)
+  std::size_t tracked = 0;    ///< processed frames with a pose
+};
+
+class SlamSession {
+ public:
+  /// Throws InputError for a bad config file.
+  SlamSession(const SlamSessionOptions& options, const PinholeCamera& camera);
+  ~SlamSession();
+
+  /// Runs SLAM on the frame and records it. Not after save().
+  FrameOutcome process(const RGBDFrame& frame);
+  /// Counts `n` frames dropped because SLAM was busy (as `run --realtime`).
+  void addDropped(std::size_t n);
+  /// The dynamic mask of the last frame (CV_8U, 255 = dynamic); empty in mode off.
+  cv::Mat lastMask() const;
+
+  SessionCounts counts() const;
+  const SlamSystem& slam() const { return *slam_; }
+  SlamSystem& slam() { return *slam_; }
+  bool saved() const { return saved_; }
+
+  /// Ends the session (final bundle adjustment) and writes the run folder to
+  /// out_dir (replaced whole, as `dynslam run` does) with map.dsm when
+  /// save_map. Further process() calls throw.
+  void save(const std::string& out_dir, bool save_map);
+
+ private:
+  SlamSessionOptions options_;
+  std::string config_path_;
+  std::string config_used_;
+  PinholeCamera camera_;
+  std::unique_ptr<SlamSystem> slam_;
+  std::unique_ptr<DynamicFeatureFilter> filter_;
+  std::unique_ptr<RunRecorder> record_;
+  std::vector<RGBDFrame> keyframe_frames_;  ///< frames that made a keyframe
+  SessionCounts counts_;
+  double cpu0_ms_ = 0;
+  bool saved_ = false;
+};
+
+}  // namespace dynslam

@@ -1,0 +1,41 @@
+#pragma once
+// What several ROS tests share: bags written once per build of the tests and
+// reference runs on the fr1_rpy folder made once per build of dynslam (each
+// ctest case is its own process, so they are cached on disk under the build
+// folder, keyed by the binaries' modification times), and the ATE of a run
+// against the folder's own groundtruth.txt.
+#include <string>
+#include <vector>
+
+#include "tum_bag_writer.h"
+
+namespace dynslam::test {
+
+/// Frames of fr1_rpy in the acceptance bags (issue 58).
+inline constexpr std::size_t kAcceptanceFrames = 150;
+
+/// A bag written by writeTumBag(spec) under the cache, named `name`.bag.
+std::string cachedBag(const std::string& name, const TumBagSpec& spec);
+
+/// `dynslam run INPUT -o DIR ARGS...` under the cache (run again when
+/// dynslam was rebuilt); fails the test when the run fails. Returns DIR.
+std::string cachedRun(const std::string& name, const std::string& input,
+                      const std::vector<std::string>& args);
+
+/// The folder run every bag run is compared with: fr1_rpy, its first
+/// kAcceptanceFrames frames, --mode off.
+std::string folderReferenceRun();
+
+/// The folder run on a copy of those frames whose depth is rounded to whole
+/// millimetres as a 16UC1 bag stores it (TUM's PNGs hold 0.2 mm steps): what
+/// a millimetre bag can at best reproduce.
+std::string millimetreFolderRun();
+
+/// Compares the run files that must match byte for byte: every line but the
+/// "# dynslam VERSION run of INPUT" comment, which names the input.
+void expectSameRunFiles(const std::string& expected_dir, const std::string& actual_dir);
+
+/// ATE RMSE (m) of RUN/trajectory.txt against fr1_rpy's groundtruth.txt.
+double ateRmse(const std::string& run_dir);
+
+}  // namespace dynslam::test

@@ -1,0 +1,244 @@
+// Issue 58, the ROS node: its library parts without a master (the session
+// gives the folder run's results; the mailbox drops and counts; messages
+// carry the values they were made from), then the whole node against a
+// roscore of the test's own, fed by `rosbag play`.
+#include <geometry_msgs/PoseStamped.h>
+#include <gtest/gtest.h>
+#include <rosbag/bag.h>
+#include <rosbag/view.h>
+#include <sensor_msgs/Image.h>
+#include <sensor_msgs/PointCloud2.h>
+
+#include <mrpt/poses/CPose3DQuat.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include "core/trajectory.h"
+#include "eval/trajectory_eval.h"
+#include "rawlog/tum_folder_source.h"
+#include "ros/frame_mailbox.h"
+#include "ros/ros_outputs.h"
+#include "ros/slam_session.h"
+#include "ros_master.h"
+#include "ros_test_support.h"
+#include "testing/test_support.h"
+
+namespace dynslam::test {
+namespace {
+namespace fs = std::filesystem;
+
+/// The node's ATE may exceed the folder run's by this factor (issue 58).
+constexpr double kNodeAteFactor = 1.1;
+/// rosbag play's rate: slow enough for the node to keep up on a loaded
+/// 2-core machine in mode flow (CI runs two tests at once).
+constexpr double kPlayRate = 0.3;
+/// A rate no machine keeps up with at 30 Hz frames (SLAM takes 25+ ms a frame).
+constexpr double kFastPlayRate = 5;
+/// The dynamic mode of the node test: flow gives masks without the
+/// detector's 40 ms a frame.
+constexpr const char* kNodeMode = "flow";
+/// Seconds allowed for a ROS step (master up, a service call, a shutdown).
+constexpr double kRosTimeout = 60;
+
+TEST(NodeParts, SessionFedFrameByFrameGivesTheFolderRunsFiles) {
+  const TumFolderSource folder(rpyDir(), sourceDir() + "/configs/tum_fr1.yaml");
+  SlamSessionOptions o;
+  o.mode = DynamicMode::kOff;
+  o.source = "test";
+  SlamSession session(o, folder.camera());
+  for (std::size_t i = 0; i < kAcceptanceFrames; ++i) session.process(folder.load(i));
+  const TempDir tmp;
+  session.save(tmp / "run", false);
+  expectSameRunFiles(folderReferenceRun(), tmp / "run");
+  EXPECT_EQ(session.counts().processed, kAcceptanceFrames);
+  EXPECT_EQ(session.counts().dropped, 0u);
+  // The keyframes' frames are saved with the run, pixel for pixel.
+  const TumFolderSource frames(tmp / ("run/" + std::string(kLiveFramesFolder)));
+  const Trajectory kfs = readTumTrajectory(tmp / "run/keyframes.txt");
+  ASSERT_EQ(frames.size(), kfs.size());
+  const RGBDFrame first = frames.load(0), original = folder.load(0);
+  EXPECT_EQ(first.timestamp, original.timestamp);
+  EXPECT_EQ(cv::norm(first.rgb, original.rgb, cv::NORM_INF), 0);
+  EXPECT_EQ(cv::norm(first.depth, original.depth, cv::NORM_INF), 0);
+  EXPECT_TRUE(frames.camera().sameGeometry(folder.camera()));
+  EXPECT_THROW(session.process(folder.load(0)), std::logic_error);
+}
+
+TEST(NodeParts, MailboxKeepsTheNewestFrameAndCountsTheRest) {
+  FrameMailbox<int> box;
+  EXPECT_FALSE(box.put(1));
+  EXPECT_TRUE(box.put(2));
+  EXPECT_TRUE(box.put(3));
+  EXPECT_EQ(*box.take(), 3);
+  EXPECT_EQ(box.takeDropped(), 2u);
+  EXPECT_EQ(box.takeDropped(), 0u);
+  box.put(4);
+  box.close();
+  EXPECT_EQ(*box.take(), 4);  // a closed box still hands over what it holds
+  EXPECT_FALSE(box.take().has_value());
+  EXPECT_FALSE(box.tryTake().has_value());
+  box.put(5);
+  EXPECT_EQ(*box.tryTake(), 5);
+}
+
+TEST(NodeParts, PoseAndMaskMessagesCarryTheirValues) {
+  // 90 degrees about z: quaternion (0, 0, sin 45, cos 45).
+  const mrpt::poses::CPose3D pose(1.5, -2, 0.25, M_PI / 2, 0, 0);
+  const auto m = poseMessage(pose, 1305031229.528748, "map");
+  EXPECT_EQ(m.header.frame_id, "map");
+  EXPECT_NEAR(m.header.stamp.toSec(), 1305031229.528748, 1e-6);
+  EXPECT_DOUBLE_EQ(m.pose.position.x, 1.5);
+  EXPECT_DOUBLE_EQ(m.pose.position.y, -2);
+  EXPECT_DOUBLE_EQ(m.pose.position.z, 0.25);
+  EXPECT_NEAR(std::abs(m.pose.orientation.z), std::sqrt(0.5), 1e-12);
+  EXPECT_NEAR(std::abs(m.pose.orientation.w), std::sqrt(0.5), 1e-12);
+  EXPECT_NEAR(m.pose.orientation.x, 0, 1e-12);
+  const auto t = transformMessage(pose, 2.0, "map", "camera");
+  EXPECT_EQ(t.child_frame_id, "camera");
+  EXPECT_DOUBLE_EQ(t.transform.translation.x, 1.5);
+
+  cv::Mat mask(4, 6, CV_8U, cv::Scalar(0));
+  mask.at<uint8_t>(2, 3) = 255;
+  const auto im = maskMessage(mask, 2.0, "camera");
+  EXPECT_EQ(im.encoding, "mono8");
+  ASSERT_EQ(im.width, 6u);
+  ASSERT_EQ(im.height, 4u);
+  EXPECT_EQ(im.data[2 * im.step + 3], 255);
+  EXPECT_EQ(std::count(im.data.begin(), im.data.end(), 255), 1);
+}
+
+/// What the node published, read back from a `rosbag record` bag.
+struct Recorded {
+  Trajectory poses;
+  std::size_t clouds = 0, cloud_points = 0, masks = 0, mask_pixels_ok = 0;
+};
+
+Recorded readRecording(const std::string& path) {
+  Recorded r;
+  rosbag::Bag bag(path, rosbag::bagmode::Read);
+  for (const rosbag::MessageInstance& m : rosbag::View(bag)) {
+    if (const auto p = m.instantiate<geometry_msgs::PoseStamped>()) {
+      const auto& q = p->pose.orientation;
+      r.poses.push_back(
+          {p->header.stamp.toSec(), mrpt::poses::CPose3D(mrpt::poses::CPose3DQuat(
+                                        p->pose.position.x, p->pose.position.y, p->pose.position.z,
+                                        mrpt::math::CQuaternionDouble(q.w, q.x, q.y, q.z)))});
+    } else if (const auto c = m.instantiate<sensor_msgs::PointCloud2>()) {
+      ++r.clouds;
+      r.cloud_points = std::max<std::size_t>(r.cloud_points, c->width * c->height);
+    } else if (const auto i = m.instantiate<sensor_msgs::Image>()) {
+      ++r.masks;
+      if (i->encoding == "mono8" && i->width == 640 && i->height == 480 &&
+          i->data.size() == 640u * 480u)
+        ++r.mask_pixels_ok;
+    }
+  }
+  return r;
+}
+
+/// roscore, dynslam_node (`mode`, saving to DIR/run), rosbag record of its
+/// topics and `rosbag play -r rate` of `bag`, then ~save: what the node
+/// published and counted.
+struct NodeRun {
+  Recorded rec;
+  int frames = -1, dropped = -1, tracked = -1;
+  int untracked = -1;  ///< processed without a pose (lost, or before initialisation)
+};
+
+NodeRun playThroughNode(const TempDir& tmp, const std::string& bag, const std::string& mode,
+                        double rate) {
+  NodeRun out;
+  RosMaster master(tmp.path());
+  EXPECT_TRUE(master.waitUntilUp(kRosTimeout)) << readText(tmp / "roscore.log");
+  ChildProcess node(shellQuote(binaryDir() + "/apps/dynslam_node") + " _mode:=" + mode +
+                        " _output_dir:=" + shellQuote(tmp / "run"),
+                    tmp / "node.log");
+  EXPECT_TRUE(waitForOutput("rosservice list", "/dynslam_node/save", kRosTimeout))
+      << readText(tmp / "node.log");
+  ChildProcess record("rosbag record -O " + shellQuote(tmp / "rec.bag") +
+                          " /dynslam_node/pose /dynslam_node/map_points /dynslam_node/dynamic_mask",
+                      tmp / "record.log");
+  EXPECT_TRUE(waitForOutput("rostopic info /dynslam_node/pose", "/record", kRosTimeout));
+
+  int play_code = -1;
+  shellOutput("rosbag play -q -r " + std::to_string(rate) + " " + shellQuote(bag), kRosTimeout * 3,
+              &play_code);
+  EXPECT_EQ(play_code, 0);
+  int save_code = -1;
+  const std::string saved =
+      shellOutput("rosservice call /dynslam_node/save", kRosTimeout, &save_code);
+  EXPECT_EQ(save_code, 0) << saved << readText(tmp / "node.log");
+  EXPECT_EQ(record.stop(kRosTimeout), 0) << readText(tmp / "record.log");
+  EXPECT_EQ(node.stop(kRosTimeout), 0) << readText(tmp / "node.log");
+
+  const cv::FileStorage report = openRunReport(tmp / "run");
+  EXPECT_TRUE(report.isOpened()) << readText(tmp / "node.log");
+  if (!report.isOpened()) return out;
+  out.frames = static_cast<int>(report["frames"]);
+  out.dropped = static_cast<int>(report["dropped_frames"]);
+  out.tracked = static_cast<int>(report["tracked_frames"]);
+  out.untracked =
+      static_cast<int>(report["lost_frames"]) + static_cast<int>(report["uninitialised_frames"]);
+  out.rec = readRecording(tmp / "rec.bag");
+  std::printf(
+      "node (%s, rate %.2f): %d frames, %d dropped, %zu poses, %zu clouds (up to %zu "
+      "points), %zu masks\n",
+      mode.c_str(), rate, out.frames, out.dropped, out.rec.poses.size(), out.rec.clouds,
+      out.rec.cloud_points, out.rec.masks);
+  return out;
+}
+
+TEST(NodeIntegration, NodeOnAPlayedTumBagPublishesPosesMapAndMasksAndSavesARun) {
+  const std::string bag = cachedBag("tum32f", {});
+  const std::string reference =
+      cachedRun(std::string("folder_") + kNodeMode, rpyDir(),
+                {"--max-frames", std::to_string(kAcceptanceFrames), "--mode", kNodeMode});
+  const TempDir tmp;
+  const std::string run = tmp / "run";
+  const NodeRun r = playThroughNode(tmp, bag, kNodeMode, kPlayRate);
+  const Recorded& rec = r.rec;
+
+  // Every played frame got a pose or was counted as dropped.
+  EXPECT_EQ(r.frames, static_cast<int>(kAcceptanceFrames));
+  EXPECT_EQ(rec.poses.size() + static_cast<std::size_t>(r.dropped), kAcceptanceFrames);
+  EXPECT_EQ(static_cast<int>(rec.poses.size()), r.tracked);
+
+  // ATE of the published poses against the bag's groundtruth (the folder's).
+  const Trajectory gt = readTumTrajectory(rpyDir() + "/groundtruth.txt");
+  const double node_ate = computeAte(gt, rec.poses).stats.rmse;
+  const double folder_ate = ateRmse(reference);
+  std::printf("ATE node %.5f m, folder run (mode %s) %.5f m\n", node_ate, kNodeMode, folder_ate);
+  EXPECT_LE(node_ate, kNodeAteFactor * folder_ate);
+
+  // The map and mask topics carry data.
+  EXPECT_GT(rec.clouds, 0u);
+  EXPECT_GT(rec.cloud_points, 0u);
+  EXPECT_GT(rec.masks, 0u);
+  EXPECT_EQ(rec.mask_pixels_ok, rec.masks);
+
+  // The saved run folder exports and renders.
+  const SplitCommandResult exp = runDynslamSplit({"export", run, "-o", tmp / "map.ply"});
+  ASSERT_EQ(exp.exit_code, 0) << exp.err;
+  const SplitCommandResult ren =
+      runDynslamSplit({"render", tmp / "map.ply", "-o", tmp / "map.png"});
+  ASSERT_EQ(ren.exit_code, 0) << ren.err;
+  EXPECT_GT(fs::file_size(tmp / "map.png"), 0u);
+}
+
+TEST(NodeIntegration, FramesTheNodeCannotKeepUpWithAreDroppedAndCounted) {
+  const TempDir tmp;
+  const NodeRun r = playThroughNode(tmp, cachedBag("tum32f", {}), "off", kFastPlayRate);
+  EXPECT_EQ(r.frames, static_cast<int>(kAcceptanceFrames));
+  EXPECT_GT(r.dropped, 0);
+  // Frames after long gaps may be lost: each frame is published, dropped or
+  // lost, and counted as such.
+  EXPECT_EQ(static_cast<int>(r.rec.poses.size()), r.tracked);
+  EXPECT_EQ(r.tracked + r.dropped + r.untracked, static_cast<int>(kAcceptanceFrames));
+  EXPECT_EQ(r.rec.masks, 0u);  // mode off: no dynamic stage, no mask
+}
+
+}  // namespace
+}  // namespace dynslam::test

@@ -1,0 +1,36 @@
+#pragma once
+// Writes ROS bags from the real fr1_rpy frames with rosbag's C++ API, laid out
+// as the TUM benchmark's own bags (topics, types, 32FC1 depth in metres, /tf
+// world -> kinect groundtruth), plus the variants and damage the bag tests
+// need. The tests compare what dynslam makes of these bags with what it makes
+// of the folder they came from, so the writer must not share code with the
+// reader under test (rawlog/bag_source.cpp): it only uses the folder reader.
+#include <string>
+#include <vector>
+
+namespace dynslam::test {
+
+/// TUM's depth PNG units and a 16UC1 depth topic's (millimetres, REP 118).
+inline constexpr double kTumDepthUnitsPerMetre = 5000.0;
+inline constexpr double kRosDepthUnitsPerMetre = 1000.0;
+
+struct TumBagSpec {
+  std::size_t frames = 150;              ///< first N associated pairs of fr1_rpy
+  std::string depth_encoding = "32FC1";  ///< "32FC1" metres, "16UC1" millimetres, or any
+                                         ///< other string (written as 16-bit data)
+  std::string rgb_encoding = "rgb8";     ///< written as given (pixels are rgb8)
+  bool compressed_rgb = false;           ///< CompressedImage with the original JPEG bytes
+  bool groundtruth = true;               ///< /tf world -> kinect over the frames' time span
+  bool images = true;                    ///< false: only camera_info and /tf
+  bool camera_info = true;               ///< false: no /camera/rgb/camera_info
+  int depth_width = 0;                   ///< > 0: depth images resized (mismatched sizes)
+  std::string rgb_topic = "/camera/rgb/image_color";
+  std::string depth_topic = "/camera/depth/image";
+  std::vector<std::string> extra_image_topics;  ///< more RGB copies (ambiguous bags)
+  bool lz4 = true;  ///< LZ4-compressed chunks (as recorded bags often are)
+};
+
+/// Writes the bag; returns the RGB time stamps of the frames written.
+std::vector<double> writeTumBag(const std::string& path, const TumBagSpec& spec = {});
+
+}  // namespace dynslam::test
