@@ -123,16 +123,10 @@ void SlamSession::save(const std::string& out_dir, bool save_map) {
   StagedFolder staged(out_dir, {kRunInfoFile, kReportFile, kTrajectoryFile});
   const RunLayout layout{staged.path()};
   const std::string frames_dir = staged.path() + "/" + kLiveFramesFolder;
-  const std::string header = "dynslam " DYNSLAM_VERSION " run of " + options_.source;
   writeKeyFrameFolder(frames_dir, keyframe_frames_, slam_->keyFrameTrajectory(), camera_,
                       options_.source);
   if (save_map) slam_->saveMap(layout.savedMap());
-  writeTumTrajectory(layout.trajectory(), slam_->frameTrajectory(), header);
-  writeTumTrajectory(layout.keyFrames(), slam_->keyFrameTrajectory(), header + " (keyframes)");
-  writeMapPointsText(layout.mapPoints(), slam_->map());
-  record_->writeFrameTimes(layout.frameTimes());
-  record_->writeKeyFrameMasks(layout);
-  writeFileAtomically(layout.configUsed(), [&](std::ostream& os) { os << config_used_; });
+  writeSlamOutputs(layout, *slam_, *record_, options_.source, config_used_);
 
   RunInfo info;
   info.input = kLiveFramesFolder;  // relative: resolved against the run folder

@@ -165,17 +165,11 @@ RunSummary runSlam(const RunOptions& opt) {
   sum.dropped = pacer ? pacer->dropped() : 0;
 
   const RunLayout layout{staged.path()};
-  const std::string header = "dynslam " DYNSLAM_VERSION " run of " + opt.input;
   if (opt.save_map) slam.saveMap(layout.savedMap());
   // Localisation must leave the map as it was read: checked, not assumed.
   loaded.unchanged =
       opt.localize && crc32Of(slam.encodeMap(), mapio::kMapHeaderBytes) == loaded.file.payload_crc;
-  writeTumTrajectory(layout.trajectory(), slam.frameTrajectory(), header);
-  writeTumTrajectory(layout.keyFrames(), slam.keyFrameTrajectory(), header + " (keyframes)");
-  writeMapPointsText(layout.mapPoints(), slam.map());
-  record.writeFrameTimes(layout.frameTimes());
-  record.writeKeyFrameMasks(layout);
-  writeFileAtomically(layout.configUsed(), [&](std::ostream& os) { os << config_used; });
+  writeSlamOutputs(layout, slam, record, opt.input, config_used);
   RunInfo info;
   const auto absolute = [](const std::string& p) {
     return p.empty() ? p : std::filesystem::absolute(p).string();
@@ -196,6 +190,17 @@ RunSummary runSlam(const RunOptions& opt) {
   writeFileAtomically(layout.report(), [&](std::ostream& os) { os << report; });
   staged.commit();
   return sum;
+}
+
+void writeSlamOutputs(const RunLayout& layout, const SlamSystem& slam, const RunRecorder& record,
+                      const std::string& input, const std::string& config_used) {
+  const std::string header = "dynslam " DYNSLAM_VERSION " run of " + input;
+  writeTumTrajectory(layout.trajectory(), slam.frameTrajectory(), header);
+  writeTumTrajectory(layout.keyFrames(), slam.keyFrameTrajectory(), header + " (keyframes)");
+  writeMapPointsText(layout.mapPoints(), slam.map());
+  record.writeFrameTimes(layout.frameTimes());
+  record.writeKeyFrameMasks(layout);
+  writeFileAtomically(layout.configUsed(), [&](std::ostream& os) { os << config_used; });
 }
 
 }  // namespace dynslam

@@ -79,4 +79,14 @@ struct RunSummary {
 
 RunSummary runSlam(const RunOptions& options);
 
+class RunRecorder;
+class SlamSystem;
+struct RunLayout;
+/// The run folder's SLAM files, written the same way by `dynslam run` and
+/// the ROS node's save: trajectory.txt, keyframes.txt (headed "run of
+/// `input`"), map_points.txt, frame_times.txt, the keyframe masks and
+/// config_used.yaml.
+void writeSlamOutputs(const RunLayout& layout, const SlamSystem& slam, const RunRecorder& record,
+                      const std::string& input, const std::string& config_used);
+
 }  // namespace dynslam
