@@ -241,7 +241,11 @@ int exportMain(int argc, char** argv) {
   }
 
   const std::string camera = camera_arg.isSet() ? camera_arg.getValue() : run.camera_config;
-  const auto source = openSequence(run.input, camera, run.sensor);
+  BagTopics topics;  // a bag run reads the topics it chose
+  topics.rgb = run.rgb_topic;
+  topics.depth = run.depth_topic;
+  topics.camera_info = run.camera_info_topic;
+  const auto source = openSequence(run.input, camera, run.sensor, topics);
   std::fprintf(stderr, "exporting %zu keyframes from %s\n", run.keyframes.size(),
                source->description().c_str());
   // TUM folders list their timestamps: only keyframes get decoded.

@@ -1,6 +1,6 @@
 #pragma once
-// run_info.yaml: the inputs of a run (sequence, camera, sensor, config file,
-// mode, saved map, frame count). `dynslam run` writes it and `dynslam export`
+// run_info.yaml: the inputs of a run (sequence, camera, sensor, a bag's
+// topics, config file, mode, saved map, frame count). `dynslam run` writes it and `dynslam export`
 // reads it back; one field list drives both, so the writer and the reader
 // cannot drift apart.
 #include <cstddef>
@@ -12,9 +12,12 @@ struct RunInfo {
   std::string input;          ///< sequence path (TUM folder or rawlog)
   std::string camera_config;  ///< camera YAML; empty = chosen from the sequence
   std::string sensor;         ///< rawlog 3D sensor label; empty = its only one
-  std::string config;         ///< the config file the run read
-  std::string mode;           ///< dynamicModeName() of the run's mode
-  std::string map;            ///< the saved map the run started in; empty = none
+  /// A ROS bag's topics as chosen on the command line; empty = the bag's
+  /// only candidates (rawlog/sequence_source.h BagTopics).
+  std::string rgb_topic, depth_topic, camera_info_topic;
+  std::string config;  ///< the config file the run read
+  std::string mode;    ///< dynamicModeName() of the run's mode
+  std::string map;     ///< the saved map the run started in; empty = none
   bool localize = false;
   std::size_t frames = 0;  ///< frames processed
 };
@@ -25,6 +28,9 @@ void forEachRunInfoField(Info& r, F&& f) {
   f("input", r.input);
   f("camera_config", r.camera_config);
   f("sensor", r.sensor);
+  f("rgb_topic", r.rgb_topic);
+  f("depth_topic", r.depth_topic);
+  f("camera_info_topic", r.camera_info_topic);
   f("config", r.config);
   f("mode", r.mode);
   f("map", r.map);

@@ -41,6 +41,9 @@ RunDirectory readRunDirectory(const std::string& dir) {
   run.input = resolved(info.input);
   run.camera_config = resolved(info.camera_config);
   run.sensor = info.sensor;
+  run.rgb_topic = info.rgb_topic;
+  run.depth_topic = info.depth_topic;
+  run.camera_info_topic = info.camera_info_topic;
   // What the run used, not the file it was read from (which may have changed since).
   if (const std::string used = run.layout().configUsed(); fileExists(used)) run.config = used;
   run.keyframes = readTumTrajectory(run.keyframesPath());

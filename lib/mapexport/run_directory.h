@@ -32,7 +32,9 @@ struct RunDirectory {
   std::string input;          ///< sequence path (TUM folder or rawlog)
   std::string camera_config;  ///< camera YAML; empty = chosen by openSequence
   std::string sensor;         ///< rawlog 3D sensor label (`sensor:`); may be empty
-  std::string config;         ///< the run's config_used.yaml; empty when it has none
+  /// A bag's topics as the run chose them (`rgb_topic:` ...); may be empty.
+  std::string rgb_topic, depth_topic, camera_info_topic;
+  std::string config;  ///< the run's config_used.yaml; empty when it has none
   Trajectory keyframes;
 
   RunLayout layout() const { return {dir}; }

@@ -177,6 +177,9 @@ RunSummary runSlam(const RunOptions& opt) {
   info.input = absolute(opt.input);
   info.camera_config = absolute(opt.camera_config);
   info.sensor = opt.sensor;
+  info.rgb_topic = opt.topics.rgb;
+  info.depth_topic = opt.topics.depth;
+  info.camera_info_topic = opt.topics.camera_info;
   info.config = absolute(config_path);
   info.mode = dynamicModeName(opt.mode);
   info.map = absolute(opt.map_path);

@@ -16,6 +16,7 @@ RunInfo sample() {
   r.input = "/data/seq \"a\"";
   r.camera_config = "/cams/k.yaml";
   r.sensor = "KINECT";
+  r.rgb_topic = "/left/image_raw";
   r.config = "/configs/dynslam.yaml";
   r.mode = "detect+flow";
   r.localize = true;
@@ -29,6 +30,9 @@ TEST(RunInfo, WritesOneQuotedLinePerField) {
             "input: \"/data/seq \\\"a\\\"\"\n"
             "camera_config: \"/cams/k.yaml\"\n"
             "sensor: \"KINECT\"\n"
+            "rgb_topic: \"/left/image_raw\"\n"
+            "depth_topic: \"\"\n"
+            "camera_info_topic: \"\"\n"
             "config: \"/configs/dynslam.yaml\"\n"
             "mode: \"detect+flow\"\n"
             "map: \"\"\n"
@@ -43,6 +47,8 @@ TEST(RunInfo, ReadsBackWhatWasWritten) {
   EXPECT_EQ(r.input, "/data/seq \"a\"");
   EXPECT_EQ(r.camera_config, "/cams/k.yaml");
   EXPECT_EQ(r.sensor, "KINECT");
+  EXPECT_EQ(r.rgb_topic, "/left/image_raw");
+  EXPECT_EQ(r.depth_topic, "");
   EXPECT_EQ(r.config, "/configs/dynslam.yaml");
   EXPECT_EQ(r.mode, "detect+flow");
   EXPECT_EQ(r.map, "");

@@ -223,6 +223,29 @@ TEST(BadBags, SeveralRgbCandidatesWithoutRgbTopicListsThemWithCounts) {
   EXPECT_EQ(r.exit_code, 0) << r.err;
 }
 
+// A run on a bag whose topics had to be chosen keeps them in run_info.yaml,
+// and `export` reads the bag through the same topics (without them the bag
+// is ambiguous: exit 2).
+TEST(BagInput, ExportReadsTheTopicsTheRunChose) {
+  const TempDir dir;
+  const std::string bag = smallBag(dir, "two.bag", [](TumBagSpec& s) {
+    s.rgb_topic = "/left/image_raw";
+    s.extra_image_topics = {"/right/image_raw"};
+  });
+  const SplitCommandResult run = runDynslamSplit(
+      {"run", bag, "-o", dir / "run", "--mode", "off", "--rgb-topic", "/left/image_raw"});
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  std::ifstream info(fs::path(dir / "run") / "run_info.yaml");
+  std::stringstream text;
+  text << info.rdbuf();
+  EXPECT_TRUE(std::regex_search(text.str(), std::regex("rgb_topic: \"?/left/image_raw")))
+      << text.str();
+  const SplitCommandResult exported =
+      runDynslamSplit({"export", dir / "run", "-o", dir / "map.ply", "--no-carving"});
+  EXPECT_EQ(exported.exit_code, 0) << exported.err;
+  EXPECT_TRUE(fs::exists(dir / "map.ply"));
+}
+
 TEST(BadBags, NoCameraInfoNeedsACameraFile) {
   const TempDir dir;
   const std::string bag = smallBag(dir, "noinfo.bag", [](TumBagSpec& s) {
