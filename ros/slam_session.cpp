@@ -24,12 +24,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::string stampText(double t) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.6f", t);
-  return buf;
-}
-
 /// The frames of the final keyframes as a TUM folder `dir` (PNG images, the
 /// lists, camera.yaml): what `dynslam export` reads the keyframes' pixels from.
 void writeKeyFrameFolder(const std::string& dir, const std::vector<RGBDFrame>& frames,
@@ -46,13 +40,13 @@ void writeKeyFrameFolder(const std::string& dir, const std::vector<RGBDFrame>& f
     // Keyframes culled later are not in the final list (both in time order).
     while (k < keyframes.size() && keyframes[k].timestamp < f.timestamp) ++k;
     if (k == keyframes.size() || keyframes[k].timestamp != f.timestamp) continue;
-    const std::string name = stampText(f.timestamp) + ".png";
+    const std::string name = tumTimestampText(f.timestamp) + ".png";
     writePngAtomically(dir + "/rgb/" + name, f.rgb);
     writePngAtomically(dir + "/depth/" + name, f.depth);
     // The depth's own stamp would pair it with the RGB as the live sync did;
     // the RGB's keeps the pair exact (|dt| = 0).
-    rgb << stampText(f.timestamp) << " rgb/" << name << "\n";
-    depth << stampText(f.timestamp) << " depth/" << name << "\n";
+    rgb << tumTimestampText(f.timestamp) << " rgb/" << name << "\n";
+    depth << tumTimestampText(f.timestamp) << " depth/" << name << "\n";
   }
   rgb.close();
   depth.close();
@@ -93,13 +87,9 @@ FrameOutcome SlamSession::process(const RGBDFrame& frame) {
   rec.has_pose = out.track.has_pose;
   rec.lost = out.track.state == TrackingState::kLost;
   record_->addFrame(rec);
-  if (filter_) {
-    std::size_t flagged = 0;
-    for (uint8_t d : out.features->dynamic) flagged += d;
-    record_->addDynamicFlags(flagged, out.features->size());
-    if (out.track.new_keyframe && cv::countNonZero(filter_->lastMask()) > 0)
-      record_->addKeyFrameMask(frame.timestamp, filter_->lastMask());
-  }
+  if (filter_)
+    record_->addDynamicFrame(out.features->dynamic, out.track.new_keyframe, frame.timestamp,
+                             filter_->lastMask());
   if (out.track.new_keyframe) keyframe_frames_.push_back(frame);
   ++counts_.received;
   ++counts_.processed;

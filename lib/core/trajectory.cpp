@@ -73,6 +73,12 @@ const StampedPose* nearestPose(const Trajectory& traj, double t, double max_dt) 
   return best && std::abs(best->timestamp - t) <= max_dt ? best : nullptr;
 }
 
+std::string tumTimestampText(double t) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.6f", t);
+  return buf;
+}
+
 cv::Matx44d toMatx(const mrpt::poses::CPose3D& pose) {
   const auto H = pose.getHomogeneousMatrixVal<mrpt::math::CMatrixDouble44>();
   cv::Matx44d T;

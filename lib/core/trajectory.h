@@ -34,6 +34,10 @@ const StampedPose* nearestPose(const Trajectory& traj, double t, double max_dt);
 /// A pose as a 4x4 homogeneous matrix (camera-to-world stays camera-to-world).
 cv::Matx44d toMatx(const mrpt::poses::CPose3D& pose);
 
+/// A timestamp as TUM's files write it (6 decimals): the names and list
+/// entries of a TUM folder's images.
+std::string tumTimestampText(double t);
+
 /// Formats one TUM line (no newline): 6 decimals for the time, 7 significant
 /// digits after the point for translation and quaternion.
 std::string formatTumLine(const StampedPose& p);

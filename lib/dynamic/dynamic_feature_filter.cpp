@@ -114,9 +114,9 @@ struct DynamicFeatureFilter::FrameToJudge : PendingJudgement {
   cv::Mat prev_depth, cur_depth, box_mask;
   std::vector<Detection> boxes;
   std::vector<cv::KeyPoint> keypoints;
-  std::vector<uint16_t> prior_cues;  ///< the cues of the prior (label()'s labels)
-  cv::Mat prior_mask;                ///< mask_ after label()
-  cv::Mat rgb;                       ///< only with DYNSLAM_DEBUG_DYNAMIC_DIR
+  KeypointLabels prior;  ///< label()'s labels (with their cues)
+  cv::Mat prior_mask;    ///< mask_ after label()
+  cv::Mat rgb;           ///< only with DYNSLAM_DEBUG_DYNAMIC_DIR
 };
 
 DynamicFeatureFilter::DynamicFeatureFilter(const DynamicFilterParams& params,
@@ -288,11 +288,10 @@ PreLabels DynamicFeatureFilter::label(const RGBDFrame&, const cv::Mat&,
   const auto t0 = SteadyClock::now();
   prepared_ = false;
   PreLabels out;
-  std::vector<uint16_t> cues = cuesOnMask(keypoints, prior_parts_);
-  out.labels = policy_.fuse(cues);
+  out.labels = policy_.fuse(cuesOnMask(keypoints, prior_parts_));
   FrameToJudge& j = *to_judge_;
   j.keypoints = keypoints;
-  j.prior_cues = std::move(cues);
+  j.prior = out.labels;
   j.prior_mask = mask_.clone();
   out.pending = std::move(to_judge_);
   logf(LogLevel::kTrace, "dynamic",
@@ -327,13 +326,11 @@ void DynamicFeatureFilter::writeDebugImage(const MaskParts& parts) const {
   cv::imwrite(debug_dir_ + name, bgr);
 }
 
-KeypointLabels DynamicFeatureFilter::finalLabels(std::vector<uint16_t> cues) {
-  KeypointLabels labels = policy_.fuse(std::move(cues));
+void DynamicFeatureFilter::countFinal(const KeypointLabels& labels) {
   for (std::size_t i = 0; i < labels.size(); ++i) {
     unsure_count_ += labels.unsure(i);
     for (int b = 0; b < cue::kCount; ++b) cue_counts_[std::size_t(b)] += (labels.cues[i] >> b) & 1u;
   }
-  return labels;
 }
 
 std::optional<KeypointLabels> DynamicFeatureFilter::judge(std::unique_ptr<PendingJudgement> pending,
@@ -341,7 +338,7 @@ std::optional<KeypointLabels> DynamicFeatureFilter::judge(std::unique_ptr<Pendin
   auto* j = dynamic_cast<FrameToJudge*>(pending.get());
   if (!j) return std::nullopt;
   if (!pose.has_pose || !j->has_tracks || j->frame != memory_.frame) {
-    finalLabels(j->prior_cues);  // counted; the prior stays
+    countFinal(j->prior);  // the prior stays
     return std::nullopt;
   }
   std::vector<uint16_t> cues;
@@ -351,10 +348,11 @@ std::optional<KeypointLabels> DynamicFeatureFilter::judge(std::unique_ptr<Pendin
     // Tracked again after lost frames (a relocalisation): no camera motion
     // to judge the flow under, but the space seen moving before is known
     // in the map's frame, and what stands there makes no map point.
-    cues = j->prior_cues;
+    cues = j->prior.cues;
     cueMovedSpace(*j, pose.pose_wc, cues);
   }
-  KeypointLabels labels = finalLabels(std::move(cues));
+  KeypointLabels labels = policy_.fuse(std::move(cues));
+  countFinal(labels);
   writeLabelImage(*j, labels);
   return labels;
 }
@@ -450,7 +448,7 @@ std::vector<uint16_t> DynamicFeatureFilter::judgeUnderMotion(FrameToJudge& j,
     // what they saw moving off the map's inliers is not vouched for either
     // (a walker filling the view would otherwise enter the map in the very
     // frames whose judgement it spoils).
-    std::vector<uint16_t> out = j.prior_cues;
+    std::vector<uint16_t> out = j.prior.cues;
     for (std::size_t k = 0; k < out.size(); ++k) {
       if (k < pose.map_inliers.size() && pose.map_inliers[k]) out[k] |= cue::kMapInlier;
       if ((cues[k] & kMotionCues) && !(out[k] & (kMotionCues | cue::kMapInlier)))

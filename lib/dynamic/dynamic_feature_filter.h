@@ -233,8 +233,8 @@ class DynamicFeatureFilter : public ObservationPreprocessor {
   void selectFlowPoints(const std::vector<cv::KeyPoint>& keypoints,
                         const std::vector<cv::Point2f>& carried,
                         const std::vector<uint8_t>& carried_age);
-  /// The labels a frame ends with: counted (cueCounts, unsureKeypointCount).
-  KeypointLabels finalLabels(std::vector<uint16_t> cues);
+  /// Counts the labels a frame ends with (cueCounts, unsureKeypointCount).
+  void countFinal(const KeypointLabels& labels);
 
   DynamicFilterParams p_;
   PinholeCamera camera_;

@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "core/atomic_file.h"
+#include "core/camera.h"
 #include "core/png_file.h"
 #include "core/staged_folder.h"
 #include "core/trajectory.h"
@@ -15,29 +16,10 @@ namespace dynslam::synth {
 
 namespace {
 
-std::string stamp(double t) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.6f", t);
-  return buf;
-}
-
 /// PNG compression of the frames: fast, the sequences are large.
 constexpr int kFramePngCompression = 1;
 
 }  // namespace
-
-void writeCameraYaml(const SyntheticSequence& seq, const std::string& path) {
-  const PinholeCamera& c = seq.camera();
-  writeFileAtomically(path, [&](std::ostream& os) {
-    os.precision(10);
-    os << "# Rendered synthetic sequence (dynslam synth): ideal pinhole, no distortion.\n"
-       << "camera:\n  name: synthetic\n"
-       << "  width: " << c.width << "\n  height: " << c.height << "\n"
-       << "  fx: " << c.fx << "\n  fy: " << c.fy << "\n  cx: " << c.cx << "\n  cy: " << c.cy << "\n"
-       << "  k1: 0\n  k2: 0\n  p1: 0\n  p2: 0\n  k3: 0\n"
-       << "  depth_scale: " << c.depth_scale << "\n";
-  });
-}
 
 int writeTumSequence(SyntheticSequence& seq, const std::string& out_dir,
                      const std::function<void(int, int)>& progress) {
@@ -57,7 +39,7 @@ int writeTumSequence(SyntheticSequence& seq, const std::string& out_dir,
   const int n = seq.size();
   for (int i = 0; i < n; ++i) {
     const SyntheticFrame f = seq.frame(i);
-    const std::string ts = stamp(f.timestamp);
+    const std::string ts = tumTimestampText(f.timestamp);
     // Encoded in memory and written with a checked stream: cv::imwrite let
     // libpng print to stderr on a full disk (issue 57).
     writePngAtomically(dir + "/rgb/" + ts + ".png", f.rgb, kFramePngCompression);
@@ -74,7 +56,8 @@ int writeTumSequence(SyntheticSequence& seq, const std::string& out_dir,
     throw std::runtime_error("synth: cannot write the image lists in " + dir);
   writeTumTrajectory(dir + "/groundtruth.txt", truth,
                      "synthetic sequence, true camera-to-world poses");
-  writeCameraYaml(seq, dir + "/camera.yaml");
+  writeCameraYaml(dir + "/camera.yaml", seq.camera(),
+                  "Rendered synthetic sequence (dynslam synth): ideal pinhole, no distortion.");
   folder.commit();
   return n;
 }

@@ -16,7 +16,4 @@ class SyntheticSequence;
 int writeTumSequence(SyntheticSequence& seq, const std::string& out_dir,
                      const std::function<void(int, int)>& progress = {});
 
-/// Writes the camera YAML of `seq` (configs/tum_fr1.yaml's keys).
-void writeCameraYaml(const SyntheticSequence& seq, const std::string& path);
-
 }  // namespace dynslam::synth

@@ -134,11 +134,8 @@ RunSummary runSlam(const RunOptions& opt) {
                       out.dynamic_before_tracking, person_boxes, out.features->cues);
     }
     if (filter) {
-      std::size_t flagged = 0;
-      for (uint8_t d : out.features->dynamic) flagged += d;
-      record.addDynamicFlags(flagged, out.features->size());
-      if (out.track.new_keyframe && cv::countNonZero(filter->lastMask()) > 0)
-        record.addKeyFrameMask(frame.timestamp, filter->lastMask());
+      record.addDynamicFrame(out.features->dynamic, out.track.new_keyframe, frame.timestamp,
+                             filter->lastMask());
     }
     progress.update(i + 1, "kf " + std::to_string(slam.map().keyFrameCount()));
   }

@@ -27,6 +27,14 @@ void RunRecorder::addKeyFrameMask(double timestamp, const cv::Mat& mask) {
   keyframe_masks_.emplace_back(timestamp, mask.clone());
 }
 
+void RunRecorder::addDynamicFrame(const std::vector<uint8_t>& dynamic, bool new_keyframe,
+                                  double timestamp, const cv::Mat& mask) {
+  std::size_t flagged = 0;
+  for (uint8_t d : dynamic) flagged += d != 0;
+  addDynamicFlags(flagged, dynamic.size());
+  if (new_keyframe && !mask.empty() && cv::countNonZero(mask) > 0) addKeyFrameMask(timestamp, mask);
+}
+
 void RunRecorder::writeFrameTimes(const std::string& path) const {
   writeFileAtomically(path, [&](std::ostream& os) {
     os << "# timestamp track_ms frame_total_ms (one line per frame, read by `dynslam bench`)\n";

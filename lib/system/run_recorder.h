@@ -33,6 +33,11 @@ class RunRecorder {
   void addDynamicFlags(std::size_t flagged, std::size_t keypoints);
   /// A new keyframe's dynamic pixels (CV_8U, 255 = dynamic); copied.
   void addKeyFrameMask(double timestamp, const cv::Mat& mask);
+  /// A frame's dynamic-stage outputs, as `dynslam run` and the ROS node
+  /// record them: its flags (addDynamicFlags) and, when it became a keyframe
+  /// and `mask` (the filter's last mask) has dynamic pixels, that mask.
+  void addDynamicFrame(const std::vector<uint8_t>& dynamic, bool new_keyframe, double timestamp,
+                       const cv::Mat& mask);
 
   std::size_t frames() const { return frame_times_.size(); }
   std::size_t tracked() const { return tracked_; }

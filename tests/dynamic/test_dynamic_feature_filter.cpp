@@ -396,7 +396,9 @@ TEST(DynamicFeatureFilterTwoPhases, LabelsNameTheirCues) {
     ASSERT_GT(wall, 200) << k;
     EXPECT_GT(walker_by_tracks, 0.9 * on_walker) << k;
     EXPECT_LT(wall_motion_cue, 0.02 * wall) << k;
-    if (k == 2) EXPECT_GT(prior_walker, 0.5 * on_walker) << "carried tracks label the prior";
+    if (k == 2) {
+      EXPECT_GT(prior_walker, 0.5 * on_walker) << "carried tracks label the prior";
+    }
   }
 }
 

@@ -57,6 +57,20 @@ TEST(RunRecorder, FlaggedFraction) {
   EXPECT_DOUBLE_EQ(r.flaggedFraction(), 0.01);
 }
 
+// A frame's dynamic outputs: every frame's flags count; a mask is kept only
+// for a keyframe whose mask has dynamic pixels.
+TEST(RunRecorder, DynamicFrameKeepsMasksOfKeyFramesWithDynamicPixels) {
+  RunRecorder r;
+  cv::Mat mask(4, 6, CV_8U, cv::Scalar(0));
+  r.addDynamicFrame({1, 0, 1, 0}, true, 1.0, mask);  // keyframe, nothing dynamic
+  mask(cv::Rect(1, 1, 2, 2)).setTo(255);
+  r.addDynamicFrame({0, 0, 0, 1}, false, 2.0, mask);  // not a keyframe
+  r.addDynamicFrame({1, 1, 0, 0}, true, 3.0, mask);
+  EXPECT_EQ(r.flaggedKeypoints(), 5u);
+  EXPECT_DOUBLE_EQ(r.flaggedFraction(), 5.0 / 12.0);
+  EXPECT_EQ(r.keyFrameMasks(), 1u);
+}
+
 // The text `dynslam bench` parses: microsecond timestamps, 4 decimals of
 // ms, "nan" for a stage that did not run in that frame.
 TEST(RunRecorder, FrameTimesFile) {
