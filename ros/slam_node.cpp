@@ -21,6 +21,7 @@
 #include "rawlog/bag_source.h"
 #include "ros/frame_mailbox.h"
 #include "ros/ros_outputs.h"
+#include "ros/sequence_gaps.h"
 #include "ros/slam_session.h"
 
 namespace dynslam {
@@ -76,6 +77,10 @@ struct SlamNode::Impl {
   /// are counted as dropped when the run is saved.
   std::atomic<std::size_t> rgb_messages{0};
   std::atomic<std::size_t> synced{0};
+  /// RGB messages lost before they reached the node (gaps in each
+  /// publisher's header.seq). Used on the ROS thread only: the RGB callback
+  /// and ~save run on the one spinner, the destructor's save after it.
+  SequenceGaps rgb_gaps;
   std::size_t rejected = 0;  // frames convert() refused (SLAM thread)
   nav_msgs::Path path;
   std::thread worker;
@@ -199,10 +204,13 @@ struct SlamNode::Impl {
                unpaired);
     session->addDropped(unpaired + rejected);
     rejected = 0;
+    session->setLostInTransport(rgb_gaps.lost());
     session->save(output_dir, save_map);
     const SessionCounts c = session->counts();
-    ROS_INFO("dynslam_node: saved %s: %zu frames, %zu processed, %zu dropped, %zu tracked",
-             output_dir.c_str(), c.received, c.processed, c.dropped, c.tracked);
+    ROS_INFO(
+        "dynslam_node: saved %s: %zu frames, %zu processed, %zu dropped, %zu tracked, %zu lost "
+        "in transport",
+        output_dir.c_str(), c.received, c.processed, c.dropped, c.tracked, c.lost_in_transport);
     return true;
   }
 };
@@ -246,7 +254,11 @@ SlamNode::SlamNode(ros::NodeHandle& nh, ros::NodeHandle& pnh) : impl_(std::make_
   d.sync = std::make_unique<message_filters::Synchronizer<SyncPolicy>>(
       SyncPolicy(static_cast<uint32_t>(queue)), d.rgb_sub, d.depth_sub, d.info_sub);
   d.sync->registerCallback(&Impl::onFrame, &d);
-  d.rgb_sub.registerCallback([this](const ImageMsg::ConstPtr&) { ++impl_->rgb_messages; });
+  d.rgb_sub.registerCallback(boost::function<void(const ros::MessageEvent<ImageMsg const>&)>(
+      [this](const ros::MessageEvent<ImageMsg const>& e) {
+        ++impl_->rgb_messages;
+        impl_->rgb_gaps.observe(e.getPublisherName(), e.getConstMessage()->header.seq);
+      }));
 }
 
 SlamNode::~SlamNode() {

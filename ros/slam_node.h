@@ -2,7 +2,9 @@
 // dynslam_node's ROS side: subscribes to an RGB-D camera (RGB, depth and the
 // RGB CameraInfo, paired by message_filters' approximate-time policy), runs a
 // SlamSession on a thread of its own and publishes what it finds. Frames
-// that come while the tracker is busy are dropped and counted (FrameMailbox).
+// that come while the tracker is busy are dropped and counted (FrameMailbox);
+// RGB messages lost in transport before they reach the node are counted from
+// the gaps in their header.seq (SequenceGaps).
 //
 // Parameters (private, ~name; defaults in parentheses):
 //   rgb_topic (/camera/rgb/image_color), depth_topic (/camera/depth/image),

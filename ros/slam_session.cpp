@@ -136,6 +136,7 @@ void SlamSession::save(const std::string& out_dir, bool save_map) {
   sum.frames = counts_.received;
   sum.processed = counts_.processed;
   sum.dropped = counts_.dropped;
+  sum.lost_in_transport = counts_.lost_in_transport;
   sum.tracked = record_->tracked();
   sum.keyframes = slam_->map().keyFrameCount();
   sum.map_points = slam_->map().mapPointCount();

@@ -35,6 +35,9 @@ struct SessionCounts {
   std::size_t processed = 0;  ///< frames SLAM ran on
   std::size_t dropped = 0;    ///< frames that came while SLAM was busy (no pose)
   std::size_t tracked = 0;    ///< processed frames with a pose
+  /// Frames published that never reached the session (the node: gaps in the
+  /// RGB header.seq); not part of `received`.
+  std::size_t lost_in_transport = 0;
 };
 
 class SlamSession {
@@ -47,6 +50,9 @@ class SlamSession {
   FrameOutcome process(const RGBDFrame& frame);
   /// Counts `n` frames dropped because SLAM was busy (as `run --realtime`).
   void addDropped(std::size_t n);
+  /// Sets the count of frames lost before they reached the node (report.json
+  /// `lost_in_transport`).
+  void setLostInTransport(std::size_t n) { counts_.lost_in_transport = n; }
   /// The dynamic mask of the last frame (CV_8U, 255 = dynamic); empty in mode off.
   cv::Mat lastMask() const;
 

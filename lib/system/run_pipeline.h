@@ -23,6 +23,7 @@
 //                    input source did (sensor, depth registration, skipped
 //                    observations)
 //   map.dsm          with save_map: the final map (docs/map_file.md)
+#include <optional>
 #include <string>
 
 #include "core/dynamic_mode.h"
@@ -72,6 +73,9 @@ struct RunSummary {
   /// cpu.total_ms over the frames given to SLAM.
   double cpuMsPerFrame() const { return processed ? cpu.total_ms / double(processed) : 0.0; }
   std::size_t dropped = 0;  ///< frames --realtime dropped (no pose, not processed)
+  /// Live input only (the ROS node): frames the sensor published that never
+  /// arrived, not part of `frames`; report.json `lost_in_transport`.
+  std::optional<std::size_t> lost_in_transport;
   /// The signal that stopped the run early (0: it ran to the end); the
   /// outputs then hold the frames processed until then.
   int interrupted_by = 0;

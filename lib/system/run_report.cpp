@@ -61,8 +61,9 @@ std::string runReportJson(const RunReportInputs& in) {
       .value("fps", in.summary.fps)
       .value("cpu_ms_per_frame", in.summary.cpuMsPerFrame())
       .value("realtime", in.options.realtime)
-      .value("dropped_frames", in.summary.dropped)
-      .value("peak_rss_mb", peakRssMb());
+      .value("dropped_frames", in.summary.dropped);
+  if (in.summary.lost_in_transport) w.value("lost_in_transport", *in.summary.lost_in_transport);
+  w.value("peak_rss_mb", peakRssMb());
   {
     // Per thread, over the frames given to SLAM (cpu_ms_per_frame is their sum).
     const RunCpu& c = in.summary.cpu;

@@ -27,8 +27,9 @@ constexpr const char* kTumDepthFrame = "/openni_depth_optical_frame";
 /// Groundtruth written this long before the first and after the last frame.
 constexpr double kGroundtruthMargin = 0.5;
 
-std_msgs::Header header(double t, const char* frame) {
+std_msgs::Header header(double t, const char* frame, std::size_t seq = 0) {
   std_msgs::Header h;
+  h.seq = static_cast<uint32_t>(seq);
   h.stamp.fromSec(t);
   h.frame_id = frame;
   return h;
@@ -39,7 +40,16 @@ std::vector<uint8_t> fileBytes(const std::string& path) {
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
+/// Frame i's RGB header.seq.
+std::size_t rgbSeq(const TumBagSpec& spec, std::size_t i) {
+  return spec.rgb_seq_gap_every > 0 ? i + i / spec.rgb_seq_gap_every : i;
+}
+
 }  // namespace
+
+std::size_t skippedRgbSeqs(const TumBagSpec& spec) {
+  return spec.frames == 0 ? 0 : rgbSeq(spec, spec.frames - 1) - (spec.frames - 1);
+}
 
 std::vector<double> writeTumBag(const std::string& path, const TumBagSpec& spec) {
   const TumFolderSource src(rpyDir(), sourceDir() + "/configs/tum_fr1.yaml");
@@ -54,7 +64,7 @@ std::vector<double> writeTumBag(const std::string& path, const TumBagSpec& spec)
     stamps.push_back(t);
 
     sensor_msgs::CameraInfo info;
-    info.header = header(t, kTumRgbFrame);
+    info.header = header(t, kTumRgbFrame, i);
     info.width = static_cast<uint32_t>(cam.width);
     info.height = static_cast<uint32_t>(cam.height);
     info.distortion_model = "plumb_bob";
@@ -68,7 +78,7 @@ std::vector<double> writeTumBag(const std::string& path, const TumBagSpec& spec)
     const RGBDFrame f = src.load(i);
     if (spec.compressed_rgb) {
       sensor_msgs::CompressedImage c;
-      c.header = header(t, kTumRgbFrame);
+      c.header = header(t, kTumRgbFrame, rgbSeq(spec, i));
       c.format = "jpeg";
       c.data = fileBytes(src.rgbPath(i));
       bag.write(spec.rgb_topic, rt, c);
@@ -76,7 +86,7 @@ std::vector<double> writeTumBag(const std::string& path, const TumBagSpec& spec)
       cv::Mat rgb;
       cv::cvtColor(f.rgb, rgb, cv::COLOR_BGR2RGB);
       sensor_msgs::ImagePtr m =
-          cv_bridge::CvImage(header(t, kTumRgbFrame), "rgb8", rgb).toImageMsg();
+          cv_bridge::CvImage(header(t, kTumRgbFrame, rgbSeq(spec, i)), "rgb8", rgb).toImageMsg();
       m->encoding = spec.rgb_encoding;
       bag.write(spec.rgb_topic, rt, *m);
       for (const std::string& extra : spec.extra_image_topics) bag.write(extra, rt, *m);
@@ -98,7 +108,7 @@ std::vector<double> writeTumBag(const std::string& path, const TumBagSpec& spec)
     }
     const double td = f.depth_timestamp;
     sensor_msgs::ImagePtr d =
-        cv_bridge::CvImage(header(td, kTumDepthFrame),
+        cv_bridge::CvImage(header(td, kTumDepthFrame, i),
                            spec.depth_encoding == "32FC1" ? "32FC1" : "16UC1", depth)
             .toImageMsg();
     d->encoding = encoding;

@@ -28,7 +28,14 @@ struct TumBagSpec {
   std::string depth_topic = "/camera/depth/image";
   std::vector<std::string> extra_image_topics;  ///< more RGB copies (ambiguous bags)
   bool lz4 = true;  ///< LZ4-compressed chunks (as recorded bags often are)
+  /// Messages carry header.seq = frame index, as a driver numbers them; > 0:
+  /// the RGB numbers skip one after every this many frames (a stream that
+  /// lost messages on the way), so a subscriber sees gaps it must count.
+  std::size_t rgb_seq_gap_every = 0;
 };
+
+/// The RGB header.seq numbers a bag of `spec` skips (see rgb_seq_gap_every).
+std::size_t skippedRgbSeqs(const TumBagSpec& spec);
 
 /// Writes the bag; returns the RGB time stamps of the frames written.
 std::vector<double> writeTumBag(const std::string& path, const TumBagSpec& spec = {});
