@@ -19,7 +19,7 @@
 #include "core/mrpt_messages.h"
 #include "rawlog/bag_messages.h"
 #include "rawlog/bag_source.h"
-#include "ros/frame_mailbox.h"
+#include "ros/frame_queue.h"
 #include "ros/ros_outputs.h"
 #include "ros/sequence_gaps.h"
 #include "ros/slam_session.h"
@@ -37,6 +37,9 @@ using SyncPolicy = message_filters::sync_policies::ApproximateTime<ImageMsg, Ima
 constexpr int kDefaultSyncQueue = 10;
 /// Queue of each publisher (messages not yet sent to a slow subscriber).
 constexpr int kPublisherQueue = 10;
+/// Frames waiting for SLAM (~frame_queue): the newest only, as a live
+/// camera wants.
+constexpr int kDefaultFrameQueue = 1;
 
 /// A synchronised message triple, not yet converted.
 struct PendingFrame {
@@ -66,7 +69,7 @@ struct SlamNode::Impl {
   message_filters::Subscriber<InfoMsg> info_sub;
   std::unique_ptr<message_filters::Synchronizer<SyncPolicy>> sync;
 
-  FrameMailbox<PendingFrame> mailbox;
+  std::unique_ptr<FrameQueue<PendingFrame>> queue;  // made before the SLAM thread starts
   std::mutex session_mutex;  // the SLAM thread and ~save
   std::unique_ptr<SlamSession> session;
   std::size_t next_index = 0;
@@ -90,7 +93,7 @@ struct SlamNode::Impl {
   void onFrame(const ImageMsg::ConstPtr& rgb, const ImageMsg::ConstPtr& depth,
                const InfoMsg::ConstPtr& info) {
     ++synced;
-    mailbox.put({rgb, depth, info});
+    queue->put({rgb, depth, info});
   }
 
   /// The frame and camera of a message triple; nullopt (logged, counted in
@@ -165,16 +168,18 @@ struct SlamNode::Impl {
       ROS_INFO("dynslam_node: started on %s (%dx%d, mode %s)", rgb_topic.c_str(), camera.width,
                camera.height, dynamicModeName(mode));
     }
-    session->addDropped(mailbox.takeDropped());
+    session->addDropped(queue->takeDropped());
     const FrameOutcome out = session->process(frame);
     publish(frame, out);
   }
 
   void run() {
-    while (std::optional<PendingFrame> p = mailbox.take()) {
+    while (queue->waitForFrame()) {
       std::lock_guard<std::mutex> lock(session_mutex);
+      std::optional<PendingFrame> p = queue->tryTake();
+      if (!p) continue;  // ~save took it
       if (session && session->saved()) {
-        after_save += 1 + mailbox.takeDropped();
+        after_save += 1 + queue->takeDropped();
         continue;
       }
       try {
@@ -191,12 +196,12 @@ struct SlamNode::Impl {
   bool save(std::string& why) {
     std::lock_guard<std::mutex> lock(session_mutex);
     if (output_dir.empty()) return why = "parameter ~output_dir is not set", false;
-    // A frame still waiting is part of the run (it came before the request).
-    if (std::optional<PendingFrame> p = mailbox.tryTake(); p && !(session && session->saved()))
-      process(*p);
+    // Frames still waiting are part of the run (they came before the request).
+    if (!(session && session->saved()))
+      while (std::optional<PendingFrame> p = queue->tryTake()) process(*p);
     if (!session) return why = "no frame received yet", false;
     if (session->saved()) return why = "already saved to " + output_dir, false;
-    session->addDropped(mailbox.takeDropped());
+    session->addDropped(queue->takeDropped());
     const std::size_t paired = synced,
                       unpaired = rgb_messages - std::min<std::size_t>(paired, rgb_messages);
     if (unpaired > 0)
@@ -233,6 +238,9 @@ SlamNode::SlamNode(ros::NodeHandle& nh, ros::NodeHandle& pnh) : impl_(std::make_
   if (!camera.empty()) d.camera_override = loadCameraYaml(camera);
   const int queue = param<int>(pnh, "sync_queue", kDefaultSyncQueue);
   if (queue < 1) throw UsageError("~sync_queue must be at least 1");
+  const int frame_queue = param<int>(pnh, "frame_queue", kDefaultFrameQueue);
+  if (frame_queue < 1) throw UsageError("~frame_queue must be at least 1");
+  d.queue = std::make_unique<FrameQueue<PendingFrame>>(static_cast<std::size_t>(frame_queue));
 
   d.pose_pub = pnh.advertise<geometry_msgs::PoseStamped>("pose", kPublisherQueue);
   d.path_pub = pnh.advertise<nav_msgs::Path>("path", 1, true);
@@ -264,7 +272,7 @@ SlamNode::SlamNode(ros::NodeHandle& nh, ros::NodeHandle& pnh) : impl_(std::make_
 SlamNode::~SlamNode() {
   Impl& d = *impl_;
   d.sync.reset();
-  d.mailbox.close();
+  d.queue->close();
   if (d.worker.joinable()) d.worker.join();
   std::string why;
   if (!d.output_dir.empty() && d.session && !d.session->saved()) {

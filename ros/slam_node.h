@@ -2,7 +2,7 @@
 // dynslam_node's ROS side: subscribes to an RGB-D camera (RGB, depth and the
 // RGB CameraInfo, paired by message_filters' approximate-time policy), runs a
 // SlamSession on a thread of its own and publishes what it finds. Frames
-// that come while the tracker is busy are dropped and counted (FrameMailbox);
+// that come while the tracker is busy are dropped and counted (FrameQueue);
 // RGB messages lost in transport before they reach the node are counted from
 // the gaps in their header.seq (SequenceGaps).
 //
@@ -12,7 +12,10 @@
 //   config (configs/dynslam.yaml), mode (detect+flow), camera (a camera YAML
 //   replacing CameraInfo's intrinsics), map_frame (map), camera_frame
 //   (camera), output_dir (where ~save writes the run folder; also written at
-//   shutdown when set and not saved yet), save_map (true), sync_queue (10).
+//   shutdown when set and not saved yet), save_map (true), sync_queue (10),
+//   frame_queue (1: frames waiting for SLAM; the oldest is dropped when a
+//   frame comes to a full queue, so 1 tracks the newest frame, as a live
+//   camera wants, and a larger queue lets a replay give SLAM every frame).
 // Publishes (private): ~pose (geometry_msgs/PoseStamped), ~path
 //   (nav_msgs/Path), ~map_points (sensor_msgs/PointCloud2, latched, at each
 //   keyframe), ~dynamic_mask (sensor_msgs/Image mono8, modes with a filter),
