@@ -165,8 +165,9 @@ struct SlamNode::Impl {
       o.mode = mode;
       o.source = "dynslam_node " + rgb_topic + " + " + depth_topic;
       session = std::make_unique<SlamSession>(o, camera);
-      ROS_INFO("dynslam_node: started on %s (%dx%d, mode %s)", rgb_topic.c_str(), camera.width,
-               camera.height, dynamicModeName(mode));
+      ROS_INFO("dynslam_node: started on %s at its header.seq %u (%dx%d, mode %s)",
+               rgb_topic.c_str(), p.rgb->header.seq, camera.width, camera.height,
+               dynamicModeName(mode));
     }
     session->addDropped(queue->takeDropped());
     const FrameOutcome out = session->process(frame);

@@ -19,6 +19,7 @@ void forEachSystemOption(P& p, F&& f) {
   f("depth_edge_window", p.depth_edge_window);
   f("depth_edge_ratio", p.depth_edge_ratio);
   f("prefetch_frames", p.prefetch_frames);
+  f("opencv_threads", p.opencv_threads);
   f("final_global_ba", p.final_global_ba);
   f("final_ba_iterations", p.final_ba_iterations);
 }

@@ -1,5 +1,6 @@
 #include "system/slam_system.h"
 
+#include <opencv2/core/utility.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include <chrono>
@@ -14,6 +15,7 @@ using Clock = SteadyClock;
 
 SlamSystem::SlamSystem(const SlamConfig& config, const PinholeCamera& camera)
     : cfg_(config), ctx_(std::make_shared<FrameContext>()), orb_(config.orb) {
+  cv::setNumThreads(cfg_.system.opencv_threads > 0 ? cfg_.system.opencv_threads : -1);
   const double close =
       cfg_.system.close_depth > 0 ? cfg_.system.close_depth : 40.0 * cfg_.system.bf / camera.fx;
   ctx_->init(camera, cfg_.system.bf, close, cfg_.orb.n_levels, cfg_.orb.scale_factor);

@@ -30,6 +30,13 @@ struct SystemParams {
   double depth_edge_ratio = 0.05;
   /// Frames decoded ahead of tracking by a reader thread (0: none).
   int prefetch_frames = 4;
+  /// Threads of OpenCV's parallel loops (cv::setNumThreads, process-wide; 0:
+  /// OpenCV's default, one per core). The frame's work already runs beside
+  /// the detector, local mapping and reader threads, and OpenCV's idle
+  /// workers spin while they wait: on two cores one thread costs 5 ms less
+  /// CPU a frame and gains 1.5 frames/s (docs/benchmarks.md). Outputs do
+  /// not depend on it.
+  int opencv_threads = 1;
   /// After the last frame, one bundle adjustment over all keyframes and map
   /// points (the first keyframe fixed), with this many iterations per stage.
   bool final_global_ba = true;

@@ -1,0 +1,31 @@
+// system.opencv_threads: SlamSystem sets OpenCV's thread count for the
+// process (its idle workers spin beside the detector and mapping threads on
+// two cores), and 0 restores OpenCV's own default.
+#include <gtest/gtest.h>
+
+#include <opencv2/core/utility.hpp>
+
+#include "core/camera.h"
+#include "system/slam_system.h"
+#include "system/system_config.h"
+
+using namespace dynslam;
+
+TEST(OpenCvThreads, SlamSystemSetsTheConfiguredCountAndZeroRestoresTheDefault) {
+  cv::setNumThreads(-1);
+  const int opencv_default = cv::getNumThreads();
+  SlamConfig cfg = loadSlamConfig(defaultSlamConfigPath());
+  cfg.loop.enabled = false;
+  EXPECT_EQ(cfg.system.opencv_threads, 1);  // configs/dynslam.yaml's default
+  PinholeCamera cam;
+  cam.width = 640;
+  cam.height = 480;
+  cam.fx = cam.fy = 500;
+  cam.cx = 320;
+  cam.cy = 240;
+  { const SlamSystem one(cfg, cam); }
+  EXPECT_EQ(cv::getNumThreads(), 1);
+  cfg.system.opencv_threads = 0;
+  { const SlamSystem unset(cfg, cam); }
+  EXPECT_EQ(cv::getNumThreads(), opencv_default);
+}
