@@ -224,14 +224,18 @@ bool playWholeBag(const TempDir& tmp, const std::string& bag, double rate) {
   ChildProcess play("rosbag play -k -d " + std::to_string(kPlayConnectDelay) + " -r " +
                         std::to_string(rate) + " " + shellQuote(bag),
                     tmp / "play.log");
-  // Progress lines: "[RUNNING]  Bag Time: ...   Duration: PLAYED / LENGTH".
+  // Progress lines: "[RUNNING]  Bag Time: ...   Duration: PLAYED / LENGTH",
+  // the newest of them possibly half written when read.
   const auto played = [&] {
     const std::string log = readText(tmp / "play.log");
-    const std::size_t at = log.rfind("Duration: ");
-    double t = 0, length = 0;
-    return at != std::string::npos &&
-           std::sscanf(log.c_str() + at, "Duration: %lf / %lf", &t, &length) == 2 && length > 0 &&
-           t >= length;
+    for (std::size_t at = log.find("Duration: "); at != std::string::npos;
+         at = log.find("Duration: ", at + 1)) {
+      double t = 0, length = 0;
+      if (std::sscanf(log.c_str() + at, "Duration: %lf / %lf", &t, &length) == 2 && length > 0 &&
+          t >= length)
+        return true;
+    }
+    return false;
   };
   const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(kRosTimeout * 3);
   bool done = false;
