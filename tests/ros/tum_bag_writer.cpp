@@ -143,6 +143,15 @@ std::vector<double> writeTumBag(const std::string& path, const TumBagSpec& spec)
       bag.write("/tf", ts.header.stamp, tf);
     }
   }
+  if (spec.end_padding_s > 0 && !stamps.empty()) {
+    geometry_msgs::TransformStamped ts;
+    ts.header = header(stamps.back() + spec.end_padding_s, "/world");
+    ts.child_frame_id = "/padding";
+    ts.transform.rotation.w = 1;
+    tf2_msgs::TFMessage tf;
+    tf.transforms.push_back(ts);
+    bag.write("/tf", ts.header.stamp, tf);
+  }
   bag.close();
   return stamps;
 }

@@ -32,6 +32,10 @@ struct TumBagSpec {
   /// the RGB numbers skip one after every this many frames (a stream that
   /// lost messages on the way), so a subscriber sees gaps it must count.
   std::size_t rgb_seq_gap_every = 0;
+  /// > 0: the bag goes on this many seconds after the last frame (one /tf
+  /// message then), so that `rosbag play` stays up while its transport
+  /// sends the last frames.
+  double end_padding_s = 0;
 };
 
 /// The RGB header.seq numbers a bag of `spec` skips (see rgb_seq_gap_every).
