@@ -8,6 +8,7 @@
 #include "core/camera.h"
 #include "system/slam_system.h"
 #include "system/system_config.h"
+#include "testing/test_support.h"
 
 using namespace dynslam;
 
@@ -17,12 +18,7 @@ TEST(OpenCvThreads, SlamSystemSetsTheConfiguredCountAndZeroRestoresTheDefault) {
   SlamConfig cfg = loadSlamConfig(defaultSlamConfigPath());
   cfg.loop.enabled = false;
   EXPECT_EQ(cfg.system.opencv_threads, 1);  // configs/dynslam.yaml's default
-  PinholeCamera cam;
-  cam.width = 640;
-  cam.height = 480;
-  cam.fx = cam.fy = 500;
-  cam.cx = 320;
-  cam.cy = 240;
+  const PinholeCamera cam = loadCameraYaml(test::sourceDir() + "/configs/tum_fr1.yaml");
   { const SlamSystem one(cfg, cam); }
   EXPECT_EQ(cv::getNumThreads(), 1);
   cfg.system.opencv_threads = 0;
