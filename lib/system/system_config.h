@@ -31,12 +31,12 @@ struct SystemParams {
   /// Frames decoded ahead of tracking by a reader thread (0: none).
   int prefetch_frames = 4;
   /// Threads of OpenCV's parallel loops (cv::setNumThreads, process-wide; 0:
-  /// OpenCV's default, one per core). The frame's work already runs beside
-  /// the detector, local mapping and reader threads, and OpenCV's idle
-  /// workers spin while they wait: on two cores one thread costs 5 ms less
-  /// CPU a frame and gains 1.5 frames/s (docs/benchmarks.md). Outputs do
-  /// not depend on it.
-  int opencv_threads = 1;
+  /// OpenCV's default, one per core). Outputs do not depend on it. On two
+  /// cores one thread costs about 5 ms less CPU a frame offline (OpenCV's
+  /// idle workers spin beside the detector and mapping threads), but a
+  /// live run's detector then hands its boxes over later and more frames
+  /// are dropped (docs/benchmarks.md), so the default stays OpenCV's.
+  int opencv_threads = 0;
   /// After the last frame, one bundle adjustment over all keyframes and map
   /// points (the first keyframe fixed), with this many iterations per stage.
   bool final_global_ba = true;
