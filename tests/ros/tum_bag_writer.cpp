@@ -40,6 +40,25 @@ std::vector<uint8_t> fileBytes(const std::string& path) {
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
+/// One /tf message world -> `child` at time t; `txyz_qxyzw` as a TUM
+/// groundtruth line writes it (tx ty tz qx qy qz qw).
+void writeWorldTf(rosbag::Bag& bag, double t, const char* child, const double* txyz_qxyzw) {
+  const double* v = txyz_qxyzw;
+  geometry_msgs::TransformStamped ts;
+  ts.header = header(t, "/world");
+  ts.child_frame_id = child;
+  ts.transform.translation.x = v[0];
+  ts.transform.translation.y = v[1];
+  ts.transform.translation.z = v[2];
+  ts.transform.rotation.x = v[3];
+  ts.transform.rotation.y = v[4];
+  ts.transform.rotation.z = v[5];
+  ts.transform.rotation.w = v[6];
+  tf2_msgs::TFMessage tf;
+  tf.transforms.push_back(ts);
+  bag.write("/tf", ts.header.stamp, tf);
+}
+
 /// Frame i's RGB header.seq.
 std::size_t rgbSeq(const TumBagSpec& spec, std::size_t i) {
   return spec.rgb_seq_gap_every > 0 ? i + i / spec.rgb_seq_gap_every : i;
@@ -128,29 +147,12 @@ std::vector<double> writeTumBag(const std::string& path, const TumBagSpec& spec)
         continue;
       if (v[0] < stamps.front() - kGroundtruthMargin || v[0] > stamps.back() + kGroundtruthMargin)
         continue;
-      geometry_msgs::TransformStamped ts;
-      ts.header = header(v[0], "/world");
-      ts.child_frame_id = "/kinect";
-      ts.transform.translation.x = v[1];
-      ts.transform.translation.y = v[2];
-      ts.transform.translation.z = v[3];
-      ts.transform.rotation.x = v[4];
-      ts.transform.rotation.y = v[5];
-      ts.transform.rotation.z = v[6];
-      ts.transform.rotation.w = v[7];
-      tf2_msgs::TFMessage tf;
-      tf.transforms.push_back(ts);
-      bag.write("/tf", ts.header.stamp, tf);
+      writeWorldTf(bag, v[0], "/kinect", &v[1]);
     }
   }
   if (spec.end_padding_s > 0 && !stamps.empty()) {
-    geometry_msgs::TransformStamped ts;
-    ts.header = header(stamps.back() + spec.end_padding_s, "/world");
-    ts.child_frame_id = "/padding";
-    ts.transform.rotation.w = 1;
-    tf2_msgs::TFMessage tf;
-    tf.transforms.push_back(ts);
-    bag.write("/tf", ts.header.stamp, tf);
+    const double identity[7] = {0, 0, 0, 0, 0, 0, 1};
+    writeWorldTf(bag, stamps.back() + spec.end_padding_s, "/padding", identity);
   }
   bag.close();
   return stamps;
