@@ -29,6 +29,8 @@ struct SourceNotes {
   std::string depth_units;         ///< where depth_scale came from ("rangeUnits", a camera YAML)
   /// Observations not used, by kind ("CObservationIMU", "CObservation3DRangeScan 'LABEL'").
   std::map<std::string, std::size_t> skipped_observations;
+  /// Frames dropped because their stamp did not advance (core/stamp_order.h).
+  std::size_t frames_stamp_not_advancing = 0;
 };
 
 class FrameSource {

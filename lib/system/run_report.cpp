@@ -100,7 +100,8 @@ std::string runReportJson(const RunReportInputs& in) {
       .value("sensor", notes.sensor)
       .value("depth_registered", notes.depth_registered)
       .value("depth_registration", notes.depth_registration)
-      .value("depth_units", notes.depth_units);
+      .value("depth_units", notes.depth_units)
+      .value("frames_stamp_not_advancing", notes.frames_stamp_not_advancing);
   w.beginObject("skipped_observations");
   for (const auto& [kind, count] : notes.skipped_observations) w.value(kind, count);
   w.endObject().endObject();
