@@ -1,6 +1,5 @@
 #include "ros/slam_node.h"
 
-#include <message_filters/subscriber.h>
 #include <message_filters/sync_policies/approximate_time.h>
 #include <message_filters/synchronizer.h>
 #include <nav_msgs/Path.h>
@@ -9,17 +8,26 @@
 #include <std_srvs/Empty.h>
 #include <tf2_msgs/TFMessage.h>
 
+#include <ros/master.h>
+
 #include <algorithm>
+#include <map>
+#include <set>
 #include <atomic>
+#include <chrono>
 #include <mutex>
 #include <optional>
 #include <thread>
+#include <variant>
 
 #include "core/errors.h"
+#include "core/stamp_order.h"
+#include "core/trajectory.h"
 #include "core/mrpt_messages.h"
 #include "rawlog/bag_messages.h"
 #include "rawlog/bag_source.h"
 #include "ros/frame_queue.h"
+#include "ros/frame_refusals.h"
 #include "ros/ros_outputs.h"
 #include "ros/sequence_gaps.h"
 #include "ros/slam_session.h"
@@ -32,14 +40,10 @@ using ImageMsg = sensor_msgs::Image;
 using InfoMsg = sensor_msgs::CameraInfo;
 using SyncPolicy = message_filters::sync_policies::ApproximateTime<ImageMsg, ImageMsg, InfoMsg>;
 
-/// Messages each subscriber and the synchroniser keep waiting for their
-/// partners (~sync_queue): a second of a 30 Hz camera with room to spare.
-constexpr int kDefaultSyncQueue = 10;
 /// Queue of each publisher (messages not yet sent to a slow subscriber).
 constexpr int kPublisherQueue = 10;
-/// Frames waiting for SLAM (~frame_queue): the newest only, as a live
-/// camera wants.
-constexpr int kDefaultFrameQueue = 1;
+/// Seconds between two looks at the master's topic types (one XML-RPC call).
+constexpr double kTopicTypeCheckS = 2.0;
 
 /// A synchronised message triple, not yet converted.
 struct PendingFrame {
@@ -47,26 +51,24 @@ struct PendingFrame {
   InfoMsg::ConstPtr info;
 };
 
-template <class T>
-T param(ros::NodeHandle& nh, const std::string& name, const T& fallback) {
-  T v;
-  nh.param<T>(name, v, fallback);
-  return v;
+/// A frame the node cannot use: the refusal reason (FrameRefusals' key) and
+/// what was wrong, for the log.
+struct Refusal {
+  std::string reason, why;
+};
+
+std::string sizeText(int width, int height) {
+  return std::to_string(width) + "x" + std::to_string(height);
 }
 
 }  // namespace
 
 struct SlamNode::Impl {
-  // Parameters.
-  std::string rgb_topic, depth_topic, info_topic, config, output_dir, map_frame, camera_frame;
-  DynamicMode mode = DynamicMode::kDetectAndFlow;
-  std::optional<PinholeCamera> camera_override;
-  bool save_map = true;
+  NodeParams p;
 
   ros::Publisher pose_pub, path_pub, cloud_pub, mask_pub, tf_pub;
   ros::ServiceServer save_srv;
-  message_filters::Subscriber<ImageMsg> rgb_sub, depth_sub;
-  message_filters::Subscriber<InfoMsg> info_sub;
+  ros::Subscriber rgb_sub, depth_sub, info_sub;
   std::unique_ptr<message_filters::Synchronizer<SyncPolicy>> sync;
 
   std::unique_ptr<FrameQueue<PendingFrame>> queue;  // made before the SLAM thread starts
@@ -74,19 +76,76 @@ struct SlamNode::Impl {
   std::unique_ptr<SlamSession> session;
   std::size_t next_index = 0;
   std::size_t after_save = 0;  // frames that came after ~save (not in the run)
-  /// RGB messages received, paired or not: those the synchroniser never
+  /// RGB messages given to the synchroniser, paired or not: those it never
   /// paired (no depth or CameraInfo close enough, or the last one, which
   /// ApproximateTime holds until a later message shows it is the best match)
   /// are counted as dropped when the run is saved.
-  std::atomic<std::size_t> rgb_messages{0};
+  std::atomic<std::size_t> rgb_to_sync{0};
   std::atomic<std::size_t> synced{0};
   /// RGB messages lost before they reached the node (gaps in each
   /// publisher's header.seq). Used on the ROS thread only: the RGB callback
   /// and ~save run on the one spinner, the destructor's save after it.
   SequenceGaps rgb_gaps;
-  std::size_t rejected = 0;  // frames convert() refused (SLAM thread)
+  /// Frames received but not usable: the ROS thread counts stamps that do
+  /// not advance, the SLAM thread the rest.
+  std::mutex refusals_mutex;
+  FrameRefusals refusals;
+  std::size_t refusals_in_session = 0;  // of them, already added to the session's dropped
+  /// Each topic's stamp order, checked as messages arrive (ROS thread), so
+  /// the synchroniser never sees a message out of order (it would pair it
+  /// anyway, with a warning of its own).
+  StampOrderGate rgb_stamps, depth_stamps, info_stamps;
   nav_msgs::Path path;
   std::thread worker;
+  ros::WallTimer type_check_timer;
+  std::set<std::string> type_mismatches_said;  // "topic type" pairs logged (ROS thread)
+
+  /// Says once for each topic published with a type the node does not
+  /// subscribe (a CompressedImage RGB, say): roscpp drops such a connection
+  /// and only the publisher's log tells, so the node would wait in silence.
+  void checkTopicTypes() {
+    ros::master::V_TopicInfo published;
+    if (!ros::master::getTopics(published)) return;
+    const std::map<std::string, std::string> expected{
+        {p.rgb_topic, ros::message_traits::datatype<ImageMsg>()},
+        {p.depth_topic, ros::message_traits::datatype<ImageMsg>()},
+        {p.camera_info_topic, ros::message_traits::datatype<InfoMsg>()}};
+    for (const ros::master::TopicInfo& t : published) {
+      const auto it = expected.find(t.name);
+      if (it == expected.end() || t.datatype == it->second) continue;
+      if (type_mismatches_said.insert(t.name + " " + t.datatype).second)
+        ROS_ERROR("dynslam_node: %s is published as %s, but the node reads %s there: no frames "
+                  "arrive from that publisher",
+                  t.name.c_str(), t.datatype.c_str(), it->second.c_str());
+    }
+  }
+
+  /// An RGB message as it arrives: counted (and its header.seq gap), then
+  /// refused when its stamp does not advance, else given to the synchroniser.
+  void onRgb(const ros::MessageEvent<ImageMsg const>& e) {
+    const auto& h = e.getConstMessage()->header;
+    rgb_gaps.observe(e.getPublisherName(), h.seq);
+    if (rgb_stamps.admit(h.stamp.toSec())) {
+      ++rgb_to_sync;
+      return sync->add<0>(e);
+    }
+    refuse({kStampNotAdvancing, p.rgb_topic + " stamp " + tumTimestampText(h.stamp.toSec()) +
+                                    " does not advance past the last frame's"});
+  }
+
+  /// Subscribes the synchroniser's input I (depth or CameraInfo) to `topic`
+  /// through `gate`: a message whose stamp does not advance is left out (its
+  /// frame's RGB is then never paired, and counted so).
+  template <int I, class M>
+  ros::Subscriber subscribePartner(ros::NodeHandle& nh, const std::string& topic, uint32_t queue,
+                                   StampOrderGate& gate) {
+    return nh.subscribe<M>(topic, queue,
+                           boost::function<void(const ros::MessageEvent<M const>&)>(
+                               [this, &gate](const ros::MessageEvent<M const>& e) {
+                                 if (gate.admit(e.getConstMessage()->header.stamp.toSec()))
+                                   sync->template add<I>(e);
+                               }));
+  }
 
   /// The synchroniser's callback: hands the messages over as they are (the
   /// SLAM thread converts them), so the ROS thread keeps up at any rate.
@@ -96,78 +155,96 @@ struct SlamNode::Impl {
     queue->put({rgb, depth, info});
   }
 
-  /// The frame and camera of a message triple; nullopt (logged, counted in
-  /// `rejected`) for an unknown encoding, undecodable data or mismatched sizes.
-  std::optional<std::pair<RGBDFrame, PinholeCamera>> convert(const PendingFrame& p) {
-    const std::string encoding = depthEncoding(p.depth->encoding);
-    std::string why;
+  /// The frame and camera of a message triple, or why it cannot be used: an
+  /// unknown encoding, a stamp that does not advance, data that does not
+  /// convert, images of another size than the camera, or a camera (size,
+  /// intrinsics, depth units) other than the one the session started with.
+  std::variant<std::pair<RGBDFrame, PinholeCamera>, Refusal> convert(const PendingFrame& m) {
+    const std::string encoding = depthEncoding(m.depth->encoding);
+    if (encoding.empty() || !isRgbEncoding(m.rgb->encoding))
+      return Refusal{"encoding", "unknown encoding (RGB " + p.rgb_topic + " '" +
+                                     m.rgb->encoding + "', depth " + p.depth_topic + " '" +
+                                     m.depth->encoding + "'; RGB " + rgbEncodingList() +
+                                     ", depth 32FC1 or 16UC1)"};
     std::pair<RGBDFrame, PinholeCamera> out;
     auto& [frame, camera] = out;
-    if (encoding.empty() || !isRgbEncoding(p.rgb->encoding)) {
-      why = "unknown encoding (RGB " + rgb_topic + " '" + p.rgb->encoding + "', depth " +
-            depth_topic + " '" + p.depth->encoding + "'; RGB " + rgbEncodingList() +
-            ", depth 32FC1 or 16UC1)";
-    } else {
-      try {
-        camera =
-            camera_override ? *camera_override : cameraFromInfo(*p.info, info_topic, info_topic);
-        camera.depth_scale = depthUnitsPerMetre(encoding);
-        frame.index = next_index++;
-        frame.timestamp = p.rgb->header.stamp.toSec();
-        frame.depth_timestamp = p.depth->header.stamp.toSec();
-        frame.rgb_source = rgb_topic;
-        frame.depth_source = depth_topic;
-        frame.rgb = bgrFromImage(*p.rgb);
-        frame.depth = depthFromImage(*p.depth, camera.depth_scale);
-        const cv::Size expected(camera.width, camera.height);
-        if (frame.rgb.size() != expected || frame.depth.size() != expected)
-          why = "mismatched sizes: RGB " + std::to_string(frame.rgb.cols) + "x" +
-                std::to_string(frame.rgb.rows) + ", depth " + std::to_string(frame.depth.cols) +
-                "x" + std::to_string(frame.depth.rows) + ", camera " +
-                std::to_string(camera.width) + "x" + std::to_string(camera.height);
-      } catch (const std::exception& e) {
-        why = oneLineMessage(e.what());
-      }
+    try {
+      camera = p.camera_override
+                   ? *p.camera_override
+                   : cameraFromInfo(*m.info, p.camera_info_topic, p.camera_info_topic);
+      camera.depth_scale = depthUnitsPerMetre(encoding);
+      frame.timestamp = m.rgb->header.stamp.toSec();
+      frame.depth_timestamp = m.depth->header.stamp.toSec();
+      frame.rgb_source = p.rgb_topic;
+      frame.depth_source = p.depth_topic;
+      frame.rgb = bgrFromImage(*m.rgb);
+      frame.depth = depthFromImage(*m.depth, camera.depth_scale);
+    } catch (const std::exception& e) {
+      return Refusal{"image_data", oneLineMessage(e.what())};
     }
-    if (why.empty()) return out;
-    ++rejected;
-    ROS_ERROR_THROTTLE(5, "dynslam_node: frame dropped: %s", why.c_str());
-    return std::nullopt;
+    const cv::Size expected(camera.width, camera.height);
+    if (frame.rgb.size() != expected || frame.depth.size() != expected)
+      return Refusal{"image_size", "mismatched sizes: RGB " +
+                                       sizeText(frame.rgb.cols, frame.rgb.rows) + ", depth " +
+                                       sizeText(frame.depth.cols, frame.depth.rows) + ", camera " +
+                                       sizeText(camera.width, camera.height)};
+    if (session && !camera.sameGeometry(session->camera()))
+      return Refusal{"camera_changed",
+                     "the camera changed mid-stream (" + sizeText(camera.width, camera.height) +
+                         ", fx " + std::to_string(camera.fx) + "; the session started with " +
+                         sizeText(session->camera().width, session->camera().height) + ", fx " +
+                         std::to_string(session->camera().fx) + ")"};
+    if (session && camera.depth_scale != session->camera().depth_scale)
+      return Refusal{"depth_encoding_changed", "depth encoding " + m.depth->encoding +
+                                                   " mid-stream, after the session started in " +
+                                                   "another (the map's depth units would change)"};
+    frame.index = next_index++;
+    return out;
+  }
+
+  /// Counts a refused frame and logs why (the reason's first, then every
+  /// kRepeatLogS seconds with the count).
+  void refuse(const Refusal& r) {
+    std::lock_guard<std::mutex> lock(refusals_mutex);
+    if (refusals.add(r.reason))
+      ROS_WARN("dynslam_node: frame dropped (%s, %zu so far): %s", r.reason.c_str(),
+               refusals.countOf(r.reason), r.why.c_str());
   }
 
   void publish(const RGBDFrame& f, const FrameOutcome& out) {
     if (out.track.has_pose) {
-      const auto pose = poseMessage(out.track.pose_wc, f.timestamp, map_frame);
+      const auto pose = poseMessage(out.track.pose_wc, f.timestamp, p.map_frame);
       pose_pub.publish(pose);
       tf2_msgs::TFMessage tf;
       tf.transforms.push_back(
-          transformMessage(out.track.pose_wc, f.timestamp, map_frame, camera_frame));
+          transformMessage(out.track.pose_wc, f.timestamp, p.map_frame, p.camera_frame));
       tf_pub.publish(tf);
       path.header = pose.header;
       path.poses.push_back(pose);
       path_pub.publish(path);
     }
     if (out.track.new_keyframe)
-      cloud_pub.publish(mapPointCloud(session->slam().map(), f.timestamp, map_frame));
+      cloud_pub.publish(mapPointCloud(session->slam().map(), f.timestamp, p.map_frame));
     const cv::Mat mask = session->lastMask();
-    if (!mask.empty()) mask_pub.publish(maskMessage(mask, f.timestamp, camera_frame));
+    if (!mask.empty()) mask_pub.publish(maskMessage(mask, f.timestamp, p.camera_frame));
   }
 
-  /// Runs SLAM on one frame (starting the session on the first) and publishes.
+  /// Runs SLAM on one frame (starting the session on the first usable one)
+  /// and publishes; a frame that cannot be used is counted and skipped.
   /// Under session_mutex.
-  void process(const PendingFrame& p) {
-    const auto converted = convert(p);
-    if (!converted) return;
-    const auto& [frame, camera] = *converted;
+  void process(const PendingFrame& m) {
+    auto converted = convert(m);
+    if (const auto* r = std::get_if<Refusal>(&converted)) return refuse(*r);
+    const auto& [frame, camera] = std::get<0>(converted);
     if (!session) {
       SlamSessionOptions o;
-      o.config_path = config;
-      o.mode = mode;
-      o.source = "dynslam_node " + rgb_topic + " + " + depth_topic;
+      o.config_path = p.config;
+      o.mode = p.mode;
+      o.source = "dynslam_node " + p.rgb_topic + " + " + p.depth_topic;
       session = std::make_unique<SlamSession>(o, camera);
       ROS_INFO("dynslam_node: started on %s at its header.seq %u (%dx%d, mode %s)",
-               rgb_topic.c_str(), p.rgb->header.seq, camera.width, camera.height,
-               dynamicModeName(mode));
+               p.rgb_topic.c_str(), m.rgb->header.seq, camera.width, camera.height,
+               dynamicModeName(p.mode));
     }
     session->addDropped(queue->takeDropped());
     const FrameOutcome out = session->process(frame);
@@ -177,71 +254,82 @@ struct SlamNode::Impl {
   void run() {
     while (queue->waitForFrame()) {
       std::lock_guard<std::mutex> lock(session_mutex);
-      std::optional<PendingFrame> p = queue->tryTake();
-      if (!p) continue;  // ~save took it
-      if (session && session->saved()) {
+      std::optional<PendingFrame> m = queue->tryTake();
+      if (!m) continue;  // ~save took it
+      if (session && session->finished()) {
         after_save += 1 + queue->takeDropped();
         continue;
       }
       try {
-        process(*p);
-      } catch (const std::exception& e) {
-        ROS_FATAL("dynslam_node: %s", oneLineMessage(e.what()).c_str());
-        ros::shutdown();
-        return;
+        process(*m);
+      } catch (const std::exception& e) {  // SLAM's own failure on this frame
+        refuse({"slam_error", oneLineMessage(e.what())});
       }
     }
   }
 
-  /// Saves to output_dir; false with `why` when there is nothing to save.
+  /// Saves to output_dir; false with `why` when there is nothing to save or
+  /// the save failed (the session then stays savable).
   bool save(std::string& why) {
     std::lock_guard<std::mutex> lock(session_mutex);
-    if (output_dir.empty()) return why = "parameter ~output_dir is not set", false;
+    if (p.output_dir.empty()) return why = "parameter ~output_dir is not set", false;
     // Frames still waiting are part of the run (they came before the request).
-    if (!(session && session->saved()))
-      while (std::optional<PendingFrame> p = queue->tryTake()) process(*p);
-    if (!session) return why = "no frame received yet", false;
-    if (session->saved()) return why = "already saved to " + output_dir, false;
-    session->addDropped(queue->takeDropped());
-    const std::size_t paired = synced,
-                      unpaired = rgb_messages - std::min<std::size_t>(paired, rgb_messages);
-    if (unpaired > 0)
-      ROS_WARN("dynslam_node: %zu RGB messages never paired with depth and CameraInfo: dropped",
-               unpaired);
-    session->addDropped(unpaired + rejected);
-    rejected = 0;
+    if (!(session && session->finished()))
+      while (std::optional<PendingFrame> m = queue->tryTake()) {
+        try {
+          process(*m);
+        } catch (const std::exception& e) {
+          refuse({"slam_error", oneLineMessage(e.what())});
+        }
+      }
+    std::unique_lock<std::mutex> refusals_lock(refusals_mutex);
+    if (!session)
+      return why = refusals.total() == 0
+                       ? "no frame received yet"
+                       : std::to_string(refusals.total()) +
+                             " frames received, none usable (" + refusals.summary() + ")",
+             false;
+    if (session->saved()) return why = "already saved to " + p.output_dir, false;
+    if (!session->finished()) {
+      session->addDropped(queue->takeDropped());
+      const std::size_t paired = synced,
+                        unpaired = rgb_to_sync - std::min<std::size_t>(paired, rgb_to_sync);
+      if (unpaired > 0)
+        ROS_WARN(
+            "dynslam_node: %zu RGB messages never paired with depth and CameraInfo: dropped",
+            unpaired);
+      session->addDropped(unpaired);
+    }
+    session->addDropped(refusals.total() - refusals_in_session);
+    refusals_in_session = refusals.total();
+    const std::size_t refused = refusals.total();
+    session->setRefusedFrames(refusals.counts());
+    refusals_lock.unlock();
     session->setLostInTransport(rgb_gaps.lost());
-    session->save(output_dir, save_map);
+    const auto t0 = std::chrono::steady_clock::now();
+    try {
+      session->save(p.output_dir, p.save_map);
+    } catch (const std::exception& e) {
+      return why = "cannot save the run (it stays unsaved; call ~save again): " +
+                   oneLineMessage(e.what()),
+             false;
+    }
     const SessionCounts c = session->counts();
     ROS_INFO(
-        "dynslam_node: saved %s: %zu frames, %zu processed, %zu dropped, %zu tracked, %zu lost "
-        "in transport",
-        output_dir.c_str(), c.received, c.processed, c.dropped, c.tracked, c.lost_in_transport);
+        "dynslam_node: saved %s in %.1f s: %zu frames, %zu processed, %zu dropped (%zu refused), "
+        "%zu tracked, %zu lost in transport",
+        p.output_dir.c_str(),
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), c.received,
+        c.processed, c.dropped, refused, c.tracked, c.lost_in_transport);
     return true;
   }
 };
 
-SlamNode::SlamNode(ros::NodeHandle& nh, ros::NodeHandle& pnh) : impl_(std::make_unique<Impl>()) {
+SlamNode::SlamNode(ros::NodeHandle& nh, ros::NodeHandle& pnh, const NodeParams& params)
+    : impl_(std::make_unique<Impl>()) {
   Impl& d = *impl_;
-  d.rgb_topic = param<std::string>(pnh, "rgb_topic", kTumBagRgbTopic);
-  d.depth_topic = param<std::string>(pnh, "depth_topic", kTumBagDepthTopic);
-  d.info_topic = param<std::string>(pnh, "camera_info_topic", kTumBagCameraInfoTopic);
-  d.config = param<std::string>(pnh, "config", "");
-  d.output_dir = param<std::string>(pnh, "output_dir", "");
-  d.map_frame = param<std::string>(pnh, "map_frame", "map");
-  d.camera_frame = param<std::string>(pnh, "camera_frame", "camera");
-  d.save_map = param<bool>(pnh, "save_map", true);
-  const std::string mode = param<std::string>(pnh, "mode", dynamicModeName(d.mode));
-  const auto parsed = parseDynamicMode(mode);
-  if (!parsed) throw UsageError("~mode " + mode + ": not one of detect+flow, detect, flow, off");
-  d.mode = *parsed;
-  const std::string camera = param<std::string>(pnh, "camera", "");
-  if (!camera.empty()) d.camera_override = loadCameraYaml(camera);
-  const int queue = param<int>(pnh, "sync_queue", kDefaultSyncQueue);
-  if (queue < 1) throw UsageError("~sync_queue must be at least 1");
-  const int frame_queue = param<int>(pnh, "frame_queue", kDefaultFrameQueue);
-  if (frame_queue < 1) throw UsageError("~frame_queue must be at least 1");
-  d.queue = std::make_unique<FrameQueue<PendingFrame>>(static_cast<std::size_t>(frame_queue));
+  d.p = params;
+  d.queue = std::make_unique<FrameQueue<PendingFrame>>(static_cast<std::size_t>(d.p.frame_queue));
 
   d.pose_pub = pnh.advertise<geometry_msgs::PoseStamped>("pose", kPublisherQueue);
   d.path_pub = pnh.advertise<nav_msgs::Path>("path", 1, true);
@@ -257,33 +345,34 @@ SlamNode::SlamNode(ros::NodeHandle& nh, ros::NodeHandle& pnh) : impl_(std::make_
       });
 
   d.worker = std::thread([this] { impl_->run(); });
-  d.rgb_sub.subscribe(nh, d.rgb_topic, static_cast<uint32_t>(queue));
-  d.depth_sub.subscribe(nh, d.depth_topic, static_cast<uint32_t>(queue));
-  d.info_sub.subscribe(nh, d.info_topic, static_cast<uint32_t>(queue));
-  d.sync = std::make_unique<message_filters::Synchronizer<SyncPolicy>>(
-      SyncPolicy(static_cast<uint32_t>(queue)), d.rgb_sub, d.depth_sub, d.info_sub);
+  d.type_check_timer = nh.createWallTimer(ros::WallDuration(kTopicTypeCheckS),
+                                          [this](const ros::WallTimerEvent&) {
+                                            impl_->checkTopicTypes();
+                                          });
+  const auto queue = static_cast<uint32_t>(d.p.sync_queue);
+  d.sync = std::make_unique<message_filters::Synchronizer<SyncPolicy>>(SyncPolicy(queue));
   d.sync->registerCallback(&Impl::onFrame, &d);
-  d.rgb_sub.registerCallback(boost::function<void(const ros::MessageEvent<ImageMsg const>&)>(
-      [this](const ros::MessageEvent<ImageMsg const>& e) {
-        ++impl_->rgb_messages;
-        impl_->rgb_gaps.observe(e.getPublisherName(), e.getConstMessage()->header.seq);
-      }));
+  d.rgb_sub = nh.subscribe<ImageMsg>(
+      d.p.rgb_topic, queue,
+      boost::function<void(const ros::MessageEvent<ImageMsg const>&)>(
+          [this](const ros::MessageEvent<ImageMsg const>& e) { impl_->onRgb(e); }));
+  d.depth_sub = d.subscribePartner<1, ImageMsg>(nh, d.p.depth_topic, queue, d.depth_stamps);
+  d.info_sub = d.subscribePartner<2, InfoMsg>(nh, d.p.camera_info_topic, queue, d.info_stamps);
 }
 
-SlamNode::~SlamNode() {
+bool SlamNode::stopAndSave() {
   Impl& d = *impl_;
+  if (!d.sync) return true;  // stopped already
   d.sync.reset();
   d.queue->close();
   if (d.worker.joinable()) d.worker.join();
+  if (d.p.output_dir.empty() || !d.session || d.session->saved()) return true;
   std::string why;
-  if (!d.output_dir.empty() && d.session && !d.session->saved()) {
-    try {
-      d.save(why);
-    } catch (const std::exception& e) {
-      ROS_ERROR("dynslam_node: saving %s: %s", d.output_dir.c_str(),
-                oneLineMessage(e.what()).c_str());
-    }
-  }
+  if (d.save(why)) return true;
+  ROS_ERROR("dynslam_node: saving at exit: %s", why.c_str());
+  return false;
 }
+
+SlamNode::~SlamNode() { stopAndSave(); }
 
 }  // namespace dynslam

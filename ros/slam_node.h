@@ -4,7 +4,10 @@
 // SlamSession on a thread of its own and publishes what it finds. Frames
 // that come while the tracker is busy are dropped and counted (FrameQueue);
 // RGB messages lost in transport before they reach the node are counted from
-// the gaps in their header.seq (SequenceGaps).
+// the gaps in their header.seq (SequenceGaps). A frame the node cannot use
+// (FrameRefusals: an unknown encoding, a size or camera that changed, a stamp
+// that does not advance, data that does not convert) costs that frame, never
+// the session.
 //
 // Parameters (private, ~name; defaults in parentheses):
 //   rgb_topic (/camera/rgb/image_color), depth_topic (/camera/depth/image),
@@ -16,24 +19,30 @@
 //   frame_queue (1: frames waiting for SLAM; the oldest is dropped when a
 //   frame comes to a full queue, so 1 tracks the newest frame, as a live
 //   camera wants, and a larger queue lets a replay give SLAM every frame).
+//   All are checked at start-up (node_params.h).
 // Publishes (private): ~pose (geometry_msgs/PoseStamped), ~path
 //   (nav_msgs/Path), ~map_points (sensor_msgs/PointCloud2, latched, at each
 //   keyframe), ~dynamic_mask (sensor_msgs/Image mono8, modes with a filter),
 //   and the TF map_frame -> camera_frame on /tf.
 // Services: ~save (std_srvs/Empty): ends the session and writes the run
-//   folder (and map.dsm) to output_dir.
+//   folder (and map.dsm) to output_dir; a save that fails says why and
+//   leaves the session savable.
 #include <ros/ros.h>
 
 #include <memory>
+
+#include "ros/node_params.h"
 
 namespace dynslam {
 
 class SlamNode {
  public:
-  /// Reads the parameters and subscribes. Throws InputError / UsageError
-  /// for bad parameters (the node exits with their one-line message).
-  SlamNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh);
-  /// Stops the SLAM thread; saves to output_dir if set and not saved yet.
+  /// Advertises and subscribes with the parameters readNodeParams checked.
+  SlamNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh, const NodeParams& params);
+  /// Stops the SLAM thread and saves to output_dir if set and not saved yet;
+  /// false (the reason logged) when that save failed. Once; the destructor
+  /// calls it when the caller did not.
+  bool stopAndSave();
   ~SlamNode();
 
  private:

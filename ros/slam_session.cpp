@@ -14,6 +14,7 @@
 #include "core/trajectory.h"
 #include "dynamic/dynamic_feature_filter.h"
 #include "map/map_points_text.h"
+#include "ros/frame_refusals.h"
 #include "system/run_pipeline.h"
 #include "system/run_recorder.h"
 #include "system/run_report.h"
@@ -78,7 +79,7 @@ SlamSession::SlamSession(const SlamSessionOptions& options, const PinholeCamera&
 SlamSession::~SlamSession() = default;
 
 FrameOutcome SlamSession::process(const RGBDFrame& frame) {
-  if (saved_) throw std::logic_error("SlamSession::process after save()");
+  if (finished_) throw std::logic_error("SlamSession::process after save()");
   const auto t0 = SteadyClock::now();
   const FrameOutcome out = slam_->process(frame);
   FrameRecord rec;
@@ -108,8 +109,8 @@ SessionCounts SlamSession::counts() const { return counts_; }
 
 void SlamSession::save(const std::string& out_dir, bool save_map) {
   if (saved_) throw std::logic_error("SlamSession::save twice");
-  saved_ = true;
-  slam_->finish();
+  if (!finished_) slam_->finish();
+  finished_ = true;
   StagedFolder staged(out_dir, {kRunInfoFile, kReportFile, kTrajectoryFile});
   const RunLayout layout{staged.path()};
   const std::string frames_dir = staged.path() + "/" + kLiveFramesFolder;
@@ -137,6 +138,7 @@ void SlamSession::save(const std::string& out_dir, bool save_map) {
   sum.processed = counts_.processed;
   sum.dropped = counts_.dropped;
   sum.lost_in_transport = counts_.lost_in_transport;
+  sum.refused_frames = refused_;
   sum.tracked = record_->tracked();
   sum.keyframes = slam_->map().keyFrameCount();
   sum.map_points = slam_->map().mapPointCount();
@@ -144,6 +146,8 @@ void SlamSession::save(const std::string& out_dir, bool save_map) {
   SourceNotes notes;
   notes.depth_units =
       std::to_string(camera_.depth_scale) + " units per metre (" + options_.source + ")";
+  if (const auto it = refused_.find(kStampNotAdvancing); it != refused_.end())
+    notes.frames_stamp_not_advancing = it->second;
   std::string report = runReportJson({o, config_path_, camera_.name, config_used_, sum, *record_,
                                       *slam_, notes, filter_.get(), nullptr, nullptr});
   // The frames were read in the staging folder; the report names their final place.
@@ -152,6 +156,7 @@ void SlamSession::save(const std::string& out_dir, bool save_map) {
     report.replace(at, frames_dir.size(), final_frames);
   writeFileAtomically(layout.report(), [&](std::ostream& os) { os << report; });
   staged.commit();
+  saved_ = true;
 }
 
 }  // namespace dynslam

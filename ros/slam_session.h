@@ -8,6 +8,7 @@
 // camera.yaml), which run_info.yaml names as the input. No ROS in here: the
 // node (slam_node.h) converts messages and calls this, and the unit tests
 // call it with frames of a TUM folder.
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -53,17 +54,28 @@ class SlamSession {
   /// Sets the count of frames lost before they reached the node (report.json
   /// `lost_in_transport`).
   void setLostInTransport(std::size_t n) { counts_.lost_in_transport = n; }
+  /// Sets the frames received but not usable, by reason (report.json
+  /// `refused_frames`; they are also counted in `dropped`). The reason
+  /// kStampNotAdvancing also gives `input_source.frames_stamp_not_advancing`.
+  void setRefusedFrames(const std::map<std::string, std::size_t>& refused) { refused_ = refused; }
   /// The dynamic mask of the last frame (CV_8U, 255 = dynamic); empty in mode off.
   cv::Mat lastMask() const;
 
   SessionCounts counts() const;
+  /// The camera the session started with (every frame must have it).
+  const PinholeCamera& camera() const { return camera_; }
   const SlamSystem& slam() const { return *slam_; }
   SlamSystem& slam() { return *slam_; }
   bool saved() const { return saved_; }
+  /// Whether the session was ended by save() (even one that failed): it takes
+  /// no more frames.
+  bool finished() const { return finished_; }
 
-  /// Ends the session (final bundle adjustment) and writes the run folder to
-  /// out_dir (replaced whole, as `dynslam run` does) with map.dsm when
-  /// save_map. Further process() calls throw.
+  /// Ends the session (final bundle adjustment, once) and writes the run
+  /// folder to out_dir (replaced whole, as `dynslam run` does) with map.dsm
+  /// when save_map. Further process() calls throw. A save that throws (the
+  /// folder not writable, a full disk) leaves the session unsaved: it can be
+  /// saved again, to the same folder or another.
   void save(const std::string& out_dir, bool save_map);
 
  private:
@@ -76,7 +88,9 @@ class SlamSession {
   std::unique_ptr<RunRecorder> record_;
   std::vector<RGBDFrame> keyframe_frames_;  ///< frames that made a keyframe
   SessionCounts counts_;
+  std::map<std::string, std::size_t> refused_;
   double cpu0_ms_ = 0;
+  bool finished_ = false;
   bool saved_ = false;
 };
 

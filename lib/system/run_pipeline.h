@@ -23,6 +23,7 @@
 //                    input source did (sensor, depth registration, skipped
 //                    observations)
 //   map.dsm          with save_map: the final map (docs/map_file.md)
+#include <map>
 #include <optional>
 #include <string>
 
@@ -76,6 +77,9 @@ struct RunSummary {
   /// Live input only (the ROS node): frames the sensor published that never
   /// arrived, not part of `frames`; report.json `lost_in_transport`.
   std::optional<std::size_t> lost_in_transport;
+  /// Live input only: frames received but not usable, by reason (report.json
+  /// `refused_frames`, written with lost_in_transport; part of `dropped`).
+  std::map<std::string, std::size_t> refused_frames;
   /// The signal that stopped the run early (0: it ran to the end); the
   /// outputs then hold the frames processed until then.
   int interrupted_by = 0;

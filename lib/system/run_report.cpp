@@ -62,7 +62,12 @@ std::string runReportJson(const RunReportInputs& in) {
       .value("cpu_ms_per_frame", in.summary.cpuMsPerFrame())
       .value("realtime", in.options.realtime)
       .value("dropped_frames", in.summary.dropped);
-  if (in.summary.lost_in_transport) w.value("lost_in_transport", *in.summary.lost_in_transport);
+  if (in.summary.lost_in_transport) {
+    w.value("lost_in_transport", *in.summary.lost_in_transport);
+    w.beginObject("refused_frames");
+    for (const auto& [reason, n] : in.summary.refused_frames) w.value(reason, n);
+    w.endObject();
+  }
   w.value("peak_rss_mb", peakRssMb());
   {
     // Per thread, over the frames given to SLAM (cpu_ms_per_frame is their sum).

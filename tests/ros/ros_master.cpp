@@ -55,8 +55,8 @@ int ChildProcess::wait(double timeout_s) {
   return WIFEXITED(status_) ? WEXITSTATUS(status_) : -1;
 }
 
-int ChildProcess::stop(double timeout_s) {
-  if (running()) ::kill(-pid_, SIGINT);
+int ChildProcess::stop(double timeout_s, int signal) {
+  if (running()) ::kill(-pid_, signal);
   int code = wait(timeout_s);
   if (code == -2) {
     ::kill(-pid_, SIGKILL);

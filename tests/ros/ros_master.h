@@ -6,6 +6,8 @@
 // test leaves no master or node behind.
 #include <sys/types.h>
 
+#include <csignal>
+
 #include <string>
 
 namespace dynslam::test {
@@ -18,9 +20,10 @@ class ChildProcess {
   ChildProcess(const ChildProcess&) = delete;
   ChildProcess& operator=(const ChildProcess&) = delete;
 
-  /// SIGINT (as Ctrl-C: ROS nodes shut down cleanly), then waits up to
-  /// `timeout_s` before SIGKILL. Returns the exit code (-1: killed by a signal).
-  int stop(double timeout_s);
+  /// `signal` (SIGINT, as Ctrl-C: ROS nodes shut down cleanly; or SIGTERM,
+  /// as a launcher or service manager), then waits up to `timeout_s` before
+  /// SIGKILL. Returns the exit code (-1: killed by a signal).
+  int stop(double timeout_s, int signal = SIGINT);
   /// Waits up to `timeout_s` for the process to end by itself; its exit code,
   /// or nullopt-like -2 when it is still running.
   int wait(double timeout_s);

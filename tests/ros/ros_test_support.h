@@ -11,6 +11,21 @@
 
 namespace dynslam::test {
 
+/// Seconds allowed for a ROS step (master up, a service call, a shutdown).
+inline constexpr double kRosTimeout = 60;
+/// Seconds `rosbag play` waits after advertising its topics, so that the
+/// node's subscriptions connect before the first message: a message sent
+/// before then never reaches the node, and the node cannot count it (it
+/// counts the gaps after its first message).
+inline constexpr double kPlayConnectDelay = 5;
+/// Node queues for a replay: a frame queue longer than the bag
+/// (~frame_queue), so the node gives SLAM every frame however loaded the
+/// machine is, and subscriber queues of 100 messages (~sync_queue, 3 s at
+/// 30 Hz), so that the transport loses nothing while the machine stalls the
+/// node's ROS thread (with 10, a machine running two busy processes and a
+/// benchmark beside the test lost up to 24 frames).
+inline constexpr const char* kQueueEveryFrame = "_frame_queue:=1000 _sync_queue:=100";
+
 /// Frames of fr1_rpy in the acceptance bags (issue 58).
 inline constexpr std::size_t kAcceptanceFrames = 150;
 

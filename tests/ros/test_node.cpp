@@ -31,17 +31,11 @@ namespace dynslam::test {
 namespace {
 namespace fs = std::filesystem;
 
+/// rosbag play's rate in the acceptance test: the recorded rate (the node
+/// gets kQueueEveryFrame, so its results can be held to the folder run's).
+constexpr double kPlayRate = 1.0;
 /// The node's ATE may exceed the folder run's by this factor (issue 58).
 constexpr double kNodeAteFactor = 1.1;
-/// rosbag play's rate in the acceptance test: the recorded rate. The node
-/// is given a frame queue longer than the bag (~frame_queue), so it gives
-/// SLAM every frame however loaded the machine is, and its results can be
-/// held to the folder run's; and subscriber queues of 100 messages
-/// (~sync_queue, 3 s at 30 Hz), so that the transport loses nothing while
-/// the machine stalls the node's ROS thread (with 10, a machine running two
-/// busy processes and a benchmark beside the test lost up to 24 frames).
-constexpr double kPlayRate = 1.0;
-constexpr const char* kQueueEveryFrame = "_frame_queue:=1000 _sync_queue:=100";
 /// Subscriber queues of 100 messages, the newest frame only for SLAM: the
 /// node drops what it cannot keep up with, and the transport (almost)
 /// nothing. A message the transport drops before the node's first one
@@ -53,8 +47,6 @@ constexpr double kFastPlayRate = 5;
 /// The dynamic mode of the node test: flow gives masks without the
 /// detector's 40 ms a frame.
 constexpr const char* kNodeMode = "flow";
-/// Seconds allowed for a ROS step (master up, a service call, a shutdown).
-constexpr double kRosTimeout = 60;
 
 TEST(NodeParts, SessionFedFrameByFrameGivesTheFolderRunsFiles) {
   const TumFolderSource folder(rpyDir(), sourceDir() + "/configs/tum_fr1.yaml");
@@ -204,11 +196,6 @@ struct NodeRun {
   std::string log;             ///< the node's output
 };
 
-/// Seconds `rosbag play` waits after advertising its topics, so that the
-/// node's subscriptions connect before the first message: a message sent
-/// before then never reaches the node, and the node cannot count it (it
-/// counts the gaps after its first message).
-constexpr double kPlayConnectDelay = 5;
 /// Bag seconds after the last frame in the bags played faster than the node
 /// keeps up with (TumBagSpec::end_padding_s): a player that exits at the end
 /// of the bag drops what its transport has not sent yet, and a message lost

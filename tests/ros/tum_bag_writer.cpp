@@ -22,18 +22,8 @@ namespace dynslam::test {
 
 namespace {
 
-constexpr const char* kTumRgbFrame = "/openni_rgb_optical_frame";
-constexpr const char* kTumDepthFrame = "/openni_depth_optical_frame";
 /// Groundtruth written this long before the first and after the last frame.
 constexpr double kGroundtruthMargin = 0.5;
-
-std_msgs::Header header(double t, const char* frame, std::size_t seq = 0) {
-  std_msgs::Header h;
-  h.seq = static_cast<uint32_t>(seq);
-  h.stamp.fromSec(t);
-  h.frame_id = frame;
-  return h;
-}
 
 std::vector<uint8_t> fileBytes(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
@@ -66,6 +56,27 @@ std::size_t rgbSeq(const TumBagSpec& spec, std::size_t i) {
 
 }  // namespace
 
+std_msgs::Header header(double t, const std::string& frame, std::size_t seq) {
+  std_msgs::Header h;
+  h.seq = static_cast<uint32_t>(seq);
+  h.stamp.fromSec(t);
+  h.frame_id = frame;
+  return h;
+}
+
+sensor_msgs::CameraInfo cameraInfoMessage(const PinholeCamera& cam, double t, std::size_t seq) {
+  sensor_msgs::CameraInfo info;
+  info.header = header(t, kTumRgbFrame, seq);
+  info.width = static_cast<uint32_t>(cam.width);
+  info.height = static_cast<uint32_t>(cam.height);
+  info.distortion_model = "plumb_bob";
+  info.D.assign(cam.dist.begin(), cam.dist.end());
+  info.K = {cam.fx, 0, cam.cx, 0, cam.fy, cam.cy, 0, 0, 1};
+  info.R = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+  info.P = {cam.fx, 0, cam.cx, 0, 0, cam.fy, cam.cy, 0, 0, 0, 1, 0};
+  return info;
+}
+
 std::size_t skippedRgbSeqs(const TumBagSpec& spec) {
   return spec.frames == 0 ? 0 : rgbSeq(spec, spec.frames - 1) - (spec.frames - 1);
 }
@@ -82,16 +93,7 @@ std::vector<double> writeTumBag(const std::string& path, const TumBagSpec& spec)
     const ros::Time rt = ros::Time().fromSec(t);
     stamps.push_back(t);
 
-    sensor_msgs::CameraInfo info;
-    info.header = header(t, kTumRgbFrame, i);
-    info.width = static_cast<uint32_t>(cam.width);
-    info.height = static_cast<uint32_t>(cam.height);
-    info.distortion_model = "plumb_bob";
-    info.D.assign(cam.dist.begin(), cam.dist.end());
-    info.K = {cam.fx, 0, cam.cx, 0, cam.fy, cam.cy, 0, 0, 1};
-    info.R = {1, 0, 0, 0, 1, 0, 0, 0, 1};
-    info.P = {cam.fx, 0, cam.cx, 0, 0, cam.fy, cam.cy, 0, 0, 0, 1, 0};
-    if (spec.camera_info) bag.write("/camera/rgb/camera_info", rt, info);
+    if (spec.camera_info) bag.write("/camera/rgb/camera_info", rt, cameraInfoMessage(cam, t, i));
     if (!spec.images) continue;
 
     const RGBDFrame f = src.load(i);

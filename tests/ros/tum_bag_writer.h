@@ -5,10 +5,19 @@
 // need. The tests compare what dynslam makes of these bags with what it makes
 // of the folder they came from, so the writer must not share code with the
 // reader under test (rawlog/bag_source.cpp): it only uses the folder reader.
+#include <sensor_msgs/CameraInfo.h>
+#include <std_msgs/Header.h>
+
 #include <string>
 #include <vector>
 
+#include "core/camera.h"
+
 namespace dynslam::test {
+
+/// The TUM bags' frame ids of the RGB and depth cameras.
+inline constexpr const char* kTumRgbFrame = "/openni_rgb_optical_frame";
+inline constexpr const char* kTumDepthFrame = "/openni_depth_optical_frame";
 
 /// TUM's depth PNG units and a 16UC1 depth topic's (millimetres, REP 118).
 inline constexpr double kTumDepthUnitsPerMetre = 5000.0;
@@ -37,6 +46,11 @@ struct TumBagSpec {
   /// sends the last frames.
   double end_padding_s = 0;
 };
+
+/// A message header at time t (s).
+std_msgs::Header header(double t, const std::string& frame, std::size_t seq = 0);
+/// The CameraInfo of `cam` as TUM's bags hold it (plumb_bob, the RGB frame).
+sensor_msgs::CameraInfo cameraInfoMessage(const PinholeCamera& cam, double t, std::size_t seq);
 
 /// The RGB header.seq numbers a bag of `spec` skips (see rgb_seq_gap_every).
 std::size_t skippedRgbSeqs(const TumBagSpec& spec);
