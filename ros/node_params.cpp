@@ -94,8 +94,9 @@ std::string checkedFrame(const ParamReader& r, const std::string& name,
 
 const std::vector<std::string>& nodeParamNames() {
   static const std::vector<std::string> names{
-      "rgb_topic", "depth_topic", "camera_info_topic", "config",     "mode",        "camera",
-      "map_frame", "camera_frame", "output_dir",       "save_map",   "sync_queue",  "frame_queue"};
+      "rgb_topic",  "rgb_transport", "depth_topic", "camera_info_topic", "config",
+      "mode",       "camera",        "map_frame",   "camera_frame",      "output_dir",
+      "save_map",   "sync_queue",    "frame_queue"};
   return names;
 }
 
@@ -116,6 +117,10 @@ NodeParams readNodeParams(const std::map<std::string, Value>& given) {
       p.depth_topic == p.camera_info_topic)
     throw UsageError("~rgb_topic, ~depth_topic and ~camera_info_topic must differ (" +
                      p.rgb_topic + ", " + p.depth_topic + ", " + p.camera_info_topic + ")");
+  p.rgb_transport = r.text("rgb_transport", p.rgb_transport);
+  if (p.rgb_transport != kRawTransport && p.rgb_transport != kCompressedTransport)
+    throw UsageError("~rgb_transport " + p.rgb_transport + ": not one of " + kRawTransport +
+                     ", " + kCompressedTransport);
   const std::string mode = r.text("mode", dynamicModeName(p.mode));
   const auto parsed = parseDynamicMode(mode);
   if (!parsed) throw UsageError("~mode " + mode + ": not one of detect+flow, detect, flow, off");

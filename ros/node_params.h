@@ -26,8 +26,19 @@ inline constexpr int kDefaultFrameQueue = 1;
 /// frames this long holds about 20 GB, all this machine class has.
 inline constexpr int kMaxNodeQueue = 20000;
 
+/// ~rgb_transport values: sensor_msgs/Image on rgb_topic, or (as
+/// image_transport's compressed plugin publishes it) sensor_msgs/CompressedImage
+/// on rgb_topic + "/compressed", a robot's usual recording.
+inline constexpr const char* kRawTransport = "raw";
+inline constexpr const char* kCompressedTransport = "compressed";
+
 struct NodeParams {
   std::string rgb_topic, depth_topic, camera_info_topic;
+  std::string rgb_transport = kRawTransport;
+  /// The topic the RGB subscription reads (rgb_topic, or its "/compressed").
+  std::string rgbSubscription() const {
+    return rgb_transport == kCompressedTransport ? rgb_topic + "/compressed" : rgb_topic;
+  }
   std::string config;  ///< SLAM config file ("" = configs/dynslam.yaml)
   DynamicMode mode = DynamicMode::kDetectAndFlow;
   std::optional<PinholeCamera> camera_override;  ///< ~camera, loaded

@@ -4,6 +4,7 @@
 #include <message_filters/synchronizer.h>
 #include <nav_msgs/Path.h>
 #include <sensor_msgs/CameraInfo.h>
+#include <sensor_msgs/CompressedImage.h>
 #include <sensor_msgs/Image.h>
 #include <std_srvs/Empty.h>
 #include <tf2_msgs/TFMessage.h>
@@ -38,7 +39,12 @@ namespace {
 
 using ImageMsg = sensor_msgs::Image;
 using InfoMsg = sensor_msgs::CameraInfo;
-using SyncPolicy = message_filters::sync_policies::ApproximateTime<ImageMsg, ImageMsg, InfoMsg>;
+using CompressedMsg = sensor_msgs::CompressedImage;
+/// RGB (raw or compressed), depth and CameraInfo paired by stamp.
+template <class RgbMsg>
+using PairingPolicy = message_filters::sync_policies::ApproximateTime<RgbMsg, ImageMsg, InfoMsg>;
+template <class RgbMsg>
+using FramePairing = message_filters::Synchronizer<PairingPolicy<RgbMsg>>;
 
 /// Queue of each publisher (messages not yet sent to a slow subscriber).
 constexpr int kPublisherQueue = 10;
@@ -47,8 +53,11 @@ constexpr double kTopicTypeCheckS = 2.0;
 
 /// A synchronised message triple, not yet converted.
 struct PendingFrame {
-  ImageMsg::ConstPtr rgb, depth;
+  ImageMsg::ConstPtr rgb;                  ///< rgb_transport raw
+  CompressedMsg::ConstPtr rgb_compressed;  ///< rgb_transport compressed
+  ImageMsg::ConstPtr depth;
   InfoMsg::ConstPtr info;
+  const std_msgs::Header& rgbHeader() const { return rgb ? rgb->header : rgb_compressed->header; }
 };
 
 /// A frame the node cannot use: the refusal reason (FrameRefusals' key) and
@@ -69,7 +78,10 @@ struct SlamNode::Impl {
   ros::Publisher pose_pub, path_pub, cloud_pub, mask_pub, tf_pub;
   ros::ServiceServer save_srv;
   ros::Subscriber rgb_sub, depth_sub, info_sub;
-  std::unique_ptr<message_filters::Synchronizer<SyncPolicy>> sync;
+  /// One of the two, as ~rgb_transport says.
+  std::unique_ptr<FramePairing<ImageMsg>> raw_pairing;
+  std::unique_ptr<FramePairing<CompressedMsg>> compressed_pairing;
+  bool stopped = false;
 
   std::unique_ptr<FrameQueue<PendingFrame>> queue;  // made before the SLAM thread starts
   std::mutex session_mutex;  // the SLAM thread and ~save
@@ -107,7 +119,9 @@ struct SlamNode::Impl {
     ros::master::V_TopicInfo published;
     if (!ros::master::getTopics(published)) return;
     const std::map<std::string, std::string> expected{
-        {p.rgb_topic, ros::message_traits::datatype<ImageMsg>()},
+        {p.rgbSubscription(), p.rgb_transport == kCompressedTransport
+                                  ? ros::message_traits::datatype<CompressedMsg>()
+                                  : ros::message_traits::datatype<ImageMsg>()},
         {p.depth_topic, ros::message_traits::datatype<ImageMsg>()},
         {p.camera_info_topic, ros::message_traits::datatype<InfoMsg>()}};
     for (const ros::master::TopicInfo& t : published) {
@@ -122,14 +136,15 @@ struct SlamNode::Impl {
 
   /// An RGB message as it arrives: counted (and its header.seq gap), then
   /// refused when its stamp does not advance, else given to the synchroniser.
-  void onRgb(const ros::MessageEvent<ImageMsg const>& e) {
+  template <class M>
+  void onRgb(const ros::MessageEvent<M const>& e, FramePairing<M>& pairing) {
     const auto& h = e.getConstMessage()->header;
     rgb_gaps.observe(e.getPublisherName(), h.seq);
     if (rgb_stamps.admit(h.stamp.toSec())) {
       ++rgb_to_sync;
-      return sync->add<0>(e);
+      return pairing.template add<0>(e);
     }
-    refuse({kStampNotAdvancing, p.rgb_topic + " stamp " + tumTimestampText(h.stamp.toSec()) +
+    refuse({kStampNotAdvancing, p.rgbSubscription() + " stamp " + tumTimestampText(h.stamp.toSec()) +
                                     " does not advance past the last frame's"});
   }
 
@@ -142,8 +157,10 @@ struct SlamNode::Impl {
     return nh.subscribe<M>(topic, queue,
                            boost::function<void(const ros::MessageEvent<M const>&)>(
                                [this, &gate](const ros::MessageEvent<M const>& e) {
-                                 if (gate.admit(e.getConstMessage()->header.stamp.toSec()))
-                                   sync->template add<I>(e);
+                                 if (!gate.admit(e.getConstMessage()->header.stamp.toSec()))
+                                   return;
+                                 if (raw_pairing) raw_pairing->template add<I>(e);
+                                 if (compressed_pairing) compressed_pairing->template add<I>(e);
                                }));
   }
 
@@ -152,7 +169,12 @@ struct SlamNode::Impl {
   void onFrame(const ImageMsg::ConstPtr& rgb, const ImageMsg::ConstPtr& depth,
                const InfoMsg::ConstPtr& info) {
     ++synced;
-    queue->put({rgb, depth, info});
+    queue->put({rgb, nullptr, depth, info});
+  }
+  void onCompressedFrame(const CompressedMsg::ConstPtr& rgb, const ImageMsg::ConstPtr& depth,
+                         const InfoMsg::ConstPtr& info) {
+    ++synced;
+    queue->put({nullptr, rgb, depth, info});
   }
 
   /// The frame and camera of a message triple, or why it cannot be used: an
@@ -161,9 +183,10 @@ struct SlamNode::Impl {
   /// intrinsics, depth units) other than the one the session started with.
   std::variant<std::pair<RGBDFrame, PinholeCamera>, Refusal> convert(const PendingFrame& m) {
     const std::string encoding = depthEncoding(m.depth->encoding);
-    if (encoding.empty() || !isRgbEncoding(m.rgb->encoding))
-      return Refusal{"encoding", "unknown encoding (RGB " + p.rgb_topic + " '" +
-                                     m.rgb->encoding + "', depth " + p.depth_topic + " '" +
+    const std::string rgb_encoding = m.rgb ? m.rgb->encoding : m.rgb_compressed->format;
+    if (encoding.empty() || (m.rgb && !isRgbEncoding(m.rgb->encoding)))
+      return Refusal{"encoding", "unknown encoding (RGB " + p.rgbSubscription() + " '" +
+                                     rgb_encoding + "', depth " + p.depth_topic + " '" +
                                      m.depth->encoding + "'; RGB " + rgbEncodingList() +
                                      ", depth 32FC1 or 16UC1)"};
     std::pair<RGBDFrame, PinholeCamera> out;
@@ -173,11 +196,11 @@ struct SlamNode::Impl {
                    ? *p.camera_override
                    : cameraFromInfo(*m.info, p.camera_info_topic, p.camera_info_topic);
       camera.depth_scale = depthUnitsPerMetre(encoding);
-      frame.timestamp = m.rgb->header.stamp.toSec();
+      frame.timestamp = m.rgbHeader().stamp.toSec();
       frame.depth_timestamp = m.depth->header.stamp.toSec();
-      frame.rgb_source = p.rgb_topic;
+      frame.rgb_source = p.rgbSubscription();
       frame.depth_source = p.depth_topic;
-      frame.rgb = bgrFromImage(*m.rgb);
+      frame.rgb = m.rgb ? bgrFromImage(*m.rgb) : bgrFromCompressed(*m.rgb_compressed);
       frame.depth = depthFromImage(*m.depth, camera.depth_scale);
     } catch (const std::exception& e) {
       return Refusal{"image_data", oneLineMessage(e.what())};
@@ -240,10 +263,10 @@ struct SlamNode::Impl {
       SlamSessionOptions o;
       o.config_path = p.config;
       o.mode = p.mode;
-      o.source = "dynslam_node " + p.rgb_topic + " + " + p.depth_topic;
+      o.source = "dynslam_node " + p.rgbSubscription() + " + " + p.depth_topic;
       session = std::make_unique<SlamSession>(o, camera);
       ROS_INFO("dynslam_node: started on %s at its header.seq %u (%dx%d, mode %s)",
-               p.rgb_topic.c_str(), m.rgb->header.seq, camera.width, camera.height,
+               p.rgbSubscription().c_str(), m.rgbHeader().seq, camera.width, camera.height,
                dynamicModeName(p.mode));
     }
     session->addDropped(queue->takeDropped());
@@ -350,20 +373,39 @@ SlamNode::SlamNode(ros::NodeHandle& nh, ros::NodeHandle& pnh, const NodeParams& 
                                             impl_->checkTopicTypes();
                                           });
   const auto queue = static_cast<uint32_t>(d.p.sync_queue);
-  d.sync = std::make_unique<message_filters::Synchronizer<SyncPolicy>>(SyncPolicy(queue));
-  d.sync->registerCallback(&Impl::onFrame, &d);
-  d.rgb_sub = nh.subscribe<ImageMsg>(
-      d.p.rgb_topic, queue,
-      boost::function<void(const ros::MessageEvent<ImageMsg const>&)>(
-          [this](const ros::MessageEvent<ImageMsg const>& e) { impl_->onRgb(e); }));
+  if (d.p.rgb_transport == kCompressedTransport) {
+    d.compressed_pairing = std::make_unique<FramePairing<CompressedMsg>>(
+        PairingPolicy<CompressedMsg>(queue));
+    d.compressed_pairing->registerCallback(&Impl::onCompressedFrame, &d);
+    d.rgb_sub = nh.subscribe<CompressedMsg>(
+        d.p.rgbSubscription(), queue,
+        boost::function<void(const ros::MessageEvent<CompressedMsg const>&)>(
+            [this](const ros::MessageEvent<CompressedMsg const>& e) {
+              impl_->onRgb(e, *impl_->compressed_pairing);
+            }));
+  } else {
+    d.raw_pairing =
+        std::make_unique<FramePairing<ImageMsg>>(PairingPolicy<ImageMsg>(queue));
+    d.raw_pairing->registerCallback(&Impl::onFrame, &d);
+    d.rgb_sub = nh.subscribe<ImageMsg>(
+        d.p.rgb_topic, queue,
+        boost::function<void(const ros::MessageEvent<ImageMsg const>&)>(
+            [this](const ros::MessageEvent<ImageMsg const>& e) {
+              impl_->onRgb(e, *impl_->raw_pairing);
+            }));
+  }
   d.depth_sub = d.subscribePartner<1, ImageMsg>(nh, d.p.depth_topic, queue, d.depth_stamps);
   d.info_sub = d.subscribePartner<2, InfoMsg>(nh, d.p.camera_info_topic, queue, d.info_stamps);
 }
 
 bool SlamNode::stopAndSave() {
   Impl& d = *impl_;
-  if (!d.sync) return true;  // stopped already
-  d.sync.reset();
+  if (d.stopped) return true;
+  d.stopped = true;
+  for (ros::Subscriber* sub : {&d.rgb_sub, &d.depth_sub, &d.info_sub}) sub->shutdown();
+  d.type_check_timer.stop();
+  d.raw_pairing.reset();
+  d.compressed_pairing.reset();
   d.queue->close();
   if (d.worker.joinable()) d.worker.join();
   if (d.p.output_dir.empty() || !d.session || d.session->saved()) return true;

@@ -11,7 +11,9 @@
 //
 // Parameters (private, ~name; defaults in parentheses):
 //   rgb_topic (/camera/rgb/image_color), depth_topic (/camera/depth/image),
-//   camera_info_topic (/camera/rgb/camera_info): the TUM bags' names
+//   camera_info_topic (/camera/rgb/camera_info): the TUM bags' names;
+//   rgb_transport (raw: Image on rgb_topic; compressed: CompressedImage on
+//   rgb_topic/compressed, as image_transport names it)
 //   config (configs/dynslam.yaml), mode (detect+flow), camera (a camera YAML
 //   replacing CameraInfo's intrinsics), map_frame (map), camera_frame
 //   (camera), output_dir (where ~save writes the run folder; also written at

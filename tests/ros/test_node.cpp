@@ -36,6 +36,8 @@ namespace fs = std::filesystem;
 constexpr double kPlayRate = 1.0;
 /// The node's ATE may exceed the folder run's by this factor (issue 58).
 constexpr double kNodeAteFactor = 1.1;
+/// ATEs (m) that count as the same trajectory (issue 64: compressed RGB).
+constexpr double kSameAteM = 0.001;
 /// Subscriber queues of 100 messages, the newest frame only for SLAM: the
 /// node drops what it cannot keep up with, and the transport (almost)
 /// nothing. A message the transport drops before the node's first one
@@ -313,6 +315,30 @@ TEST(NodeIntegration, FramesTheNodeCannotKeepUpWithAreDroppedAndCounted) {
   expectEveryFrameAccountedFor(r, kAcceptanceFrames);
   EXPECT_GT(r.dropped, 0);
   EXPECT_EQ(r.rec.masks, 0u);  // mode off: no dynamic stage, no mask
+}
+
+TEST(NodeIntegration, CompressedRgbGivesTheTrajectoryOfTheRawImages) {
+  // A robot's usual recording: RGB as CompressedImage, on the topic
+  // image_transport's compressed plugin publishes (the original JPEG bytes
+  // of fr1_rpy, so the decoded pixels are the folder's).
+  TumBagSpec spec;
+  spec.compressed_rgb = true;
+  spec.rgb_topic = "/camera/rgb/image_color/compressed";
+  const TempDir compressed_tmp, raw_tmp;
+  const NodeRun compressed =
+      playThroughNode(compressed_tmp, cachedBag("tumjpeg_transport", spec), "off", kPlayRate,
+                      std::string(kQueueEveryFrame) + " _rgb_transport:=compressed");
+  expectEveryFrameAccountedFor(compressed, kAcceptanceFrames);
+  // The same frames as raw Image messages through the node: the same
+  // synchroniser pairs them, so only the RGB transport differs.
+  const NodeRun raw =
+      playThroughNode(raw_tmp, cachedBag("tum32f", {}), "off", kPlayRate, kQueueEveryFrame);
+  const Trajectory gt = readTumTrajectory(rpyDir() + "/groundtruth.txt");
+  const double compressed_ate = computeAte(gt, compressed.rec.poses).stats.rmse;
+  const double raw_ate = computeAte(gt, raw.rec.poses).stats.rmse;
+  std::printf("ATE node, compressed RGB %.5f m, raw RGB %.5f m\n", compressed_ate, raw_ate);
+  EXPECT_EQ(compressed.tracked, raw.tracked);
+  EXPECT_NEAR(compressed_ate, raw_ate, kSameAteM);
 }
 
 TEST(NodeIntegration, GapsInTheRgbSequenceNumbersAreCountedAsLostInTransport) {
