@@ -243,11 +243,12 @@ cv::Mat decodeImageFile(const std::string& path, DecodedImage as, const std::str
 cv::Mat decodeImageBytes(const std::string& bytes, DecodedImage as, const std::string& where) {
   if (bytes.empty()) throw InputError(where, "empty image data");
   if (bytes.size() > kMaxImageFileBytes)
-    throw InputError(where, "image data of " + std::to_string(bytes.size()) + " bytes is too large");
+    throw InputError(where,
+                     "image data of " + std::to_string(bytes.size()) + " bytes is too large");
   return decodeBytes(where, bytes, as, [&](int flags) {
-    return cv::imdecode(cv::Mat(1, static_cast<int>(bytes.size()), CV_8UC1,
-                                const_cast<char*>(bytes.data())),
-                        flags);
+    return cv::imdecode(
+        cv::Mat(1, static_cast<int>(bytes.size()), CV_8UC1, const_cast<char*>(bytes.data())),
+        flags);
   });
 }
 

@@ -43,9 +43,9 @@ void refuseObjectsThatCrashTheReader(const std::string& path) {
     }
   });
   if (crash.crashed)
-    throw InputError(path, "corrupt rawlog: " + ordinal(crash.done) +
-                               " cannot be read (MRPT's reader crashed on it: " +
-                               crash.signalName() + ")");
+    throw InputError(
+        path, "corrupt rawlog: " + ordinal(crash.done) +
+                  " cannot be read (MRPT's reader crashed on it: " + crash.signalName() + ")");
 }
 
 }  // namespace

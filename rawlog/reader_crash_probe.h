@@ -14,9 +14,9 @@ namespace dynslam {
 
 /// How the probe's read ended.
 struct ReaderCrash {
-  bool crashed = false;      ///< the child died of a signal
-  int signal = 0;            ///< which (when crashed)
-  std::uint64_t done = 0;    ///< the last progress the child reported
+  bool crashed = false;    ///< the child died of a signal
+  int signal = 0;          ///< which (when crashed)
+  std::uint64_t done = 0;  ///< the last progress the child reported
   /// "signal 11 (SIGSEGV)" for messages.
   std::string signalName() const;
 };
