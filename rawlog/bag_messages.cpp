@@ -101,11 +101,15 @@ void checkImageLayout(const sensor_msgs::Image& image, std::size_t bytes_per_pix
                                 " bytes, not step x height");
 }
 
-cv::Mat bgrFromImage(const sensor_msgs::Image& image, const std::string& where) {
+void checkRgbImage(const sensor_msgs::Image& image, const std::string& where) {
   if (!isRgbEncoding(image.encoding))
     throw InputError(where, "unknown RGB encoding '" + image.encoding + "' (expected " +
                                 rgbEncodingList() + ")");
   checkImageLayout(image, bytesPerPixel(image.encoding), where);
+}
+
+cv::Mat bgrFromImage(const sensor_msgs::Image& image, const std::string& where) {
+  checkRgbImage(image, where);
   return cv_bridge::toCvCopy(image, enc::BGR8)->image;  // 8-bit: byte order does not apply
 }
 

@@ -46,6 +46,10 @@ double depthUnitsPerMetre(const std::string& depth_encoding);
 void checkImageLayout(const sensor_msgs::Image& image, std::size_t bytes_per_pixel,
                       const std::string& where);
 
+/// Throws InputError(where) unless `image` is of an isRgbEncoding with a
+/// sound layout: what bgrFromImage checks, without converting pixels.
+void checkRgbImage(const sensor_msgs::Image& image, const std::string& where);
+
 /// 8-bit BGR pixels of an Image (an isRgbEncoding) or a CompressedImage
 /// (PNG or JPEG, decoded as a TUM folder's files are). Throws InputError(where).
 cv::Mat bgrFromImage(const sensor_msgs::Image& image, const std::string& where = "a ROS image");
