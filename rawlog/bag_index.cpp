@@ -131,17 +131,20 @@ struct ChunkInfo {
 
 }  // namespace
 
-BagTopicCounts checkBagIndex(const std::string& path) {
+std::optional<BagTopicCounts> checkBagIndex(const std::string& path) {
   BagRecordReader bag(path);
   const std::size_t version_len = std::strlen(kVersionLine);
   if (bag.size() < version_len || bag.bytes(0, version_len, "version line") != kVersionLine)
-    throw InputError(path, "not a ROS bag of format 2.0 (no '#ROSBAG V2.0' line)");
+    return std::nullopt;
   const Record header = bag.record(version_len, kOpBagHeader, "bag header record");
   const std::uint64_t index_pos = bag.fieldU64(header, "index_pos", "bag header record");
   const std::uint32_t connections = bag.fieldU32(header, "conn_count", "bag header record");
   const std::uint32_t chunks = bag.fieldU32(header, "chunk_count", "bag header record");
   if (index_pos == 0)
     throw InputError(path, "the ROS bag has no index (an unfinished recording: rosbag reindex)");
+  if (index_pos >= bag.size())
+    throw InputError(path, "the ROS bag is cut short: its index should be at byte " +
+                               std::to_string(index_pos) + " of its " + std::to_string(bag.size()));
 
   std::map<std::uint32_t, std::string> topic_of;
   std::uint64_t at = index_pos;

@@ -8,6 +8,7 @@
 // refused naming the bag instead of losing frames.
 #include <cstddef>
 #include <map>
+#include <optional>
 #include <string>
 
 namespace dynslam {
@@ -15,12 +16,14 @@ namespace dynslam {
 /// Messages per topic as the bag's chunk-info records count them.
 using BagTopicCounts = std::map<std::string, std::size_t>;
 
-/// Checks the index of the bag at `path` (a regular file): the "#ROSBAG
-/// V2.0" line, every record within the file, chunk-info records pointing at
+/// Checks the index of the bag at `path` (a regular file) when it is of
+/// format 2.0: every record within the file, chunk-info records pointing at
 /// chunk records in increasing order, the index-data records after each
 /// chunk naming the chunk info's connections with its counts, and every
 /// index entry inside its chunk. Throws InputError(path) saying which record
-/// is wrong. Returns the per-topic message counts the index promises.
-BagTopicCounts checkBagIndex(const std::string& path);
+/// is wrong. Returns the per-topic message counts the index promises, or
+/// nullopt for a file without the "#ROSBAG V2.0" line (an older format, or
+/// not a bag: rosbag itself says which).
+std::optional<BagTopicCounts> checkBagIndex(const std::string& path);
 
 }  // namespace dynslam

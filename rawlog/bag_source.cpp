@@ -142,7 +142,7 @@ struct BagSource::Impl {
   void openBag() {
     requireRegularFile(path, "ROS bag");
     silenceRosbagMessages();
-    const BagTopicCounts indexed = checkBagIndex(path);
+    const std::optional<BagTopicCounts> indexed = checkBagIndex(path);
     refuseMessagesThatCrashRosbag();
     try {
       bag = openRosbag(path);
@@ -154,8 +154,9 @@ struct BagSource::Impl {
       throw InputError(path, "cannot read the ROS bag: " + oneLineMessage(e.what()));
     }
     for (const auto& [topic, info] : all) {
-      const auto it = indexed.find(topic);
-      const std::size_t promised = it == indexed.end() ? 0 : it->second;
+      if (!indexed) break;  // not format 2.0: rosbag's own checks only
+      const auto it = indexed->find(topic);
+      const std::size_t promised = it == indexed->end() ? 0 : it->second;
       if (info.messages != promised)
         throw InputError(path, "damaged ROS bag index: topic " + topic +
                                    ": its chunk info records count " + std::to_string(promised) +
