@@ -32,7 +32,6 @@
 #include "core/stderr_capture.h"
 #include "rawlog/bag_index.h"
 #include "rawlog/bag_messages.h"
-#include "rawlog/image_checks.h"
 #include "rawlog/reader_crash_probe.h"
 #include "rawlog/tum_folder_source.h"
 
@@ -476,8 +475,8 @@ RGBDFrame BagSource::load(std::size_t i) const {
   } catch (const std::exception& e) {
     throw InputError(f.rgb_source, "cannot convert the images: " + oneLineMessage(e.what()));
   }
-  checkImageSize(f.rgb, d.camera, f.rgb_source);
-  checkImageSize(f.depth, d.camera, f.depth_source);
+  // A compressed image's size is known only now; the others were checked at open.
+  d.checkSize(uint32_t(f.rgb.cols), uint32_t(f.rgb.rows), d.topics.rgb, ri);
   return f;
 }
 
