@@ -1,8 +1,10 @@
 #include "rawlog/bag_source.h"
 
+#include <console_bridge/console.h>
 #include <mrpt/math/CQuaternion.h>
 #include <mrpt/poses/CPose3D.h>
 #include <mrpt/poses/CPose3DQuat.h>
+#include <ros/serialization.h>
 #include <rosbag/bag.h>
 #include <rosbag/view.h>
 #include <sensor_msgs/CameraInfo.h>
@@ -16,6 +18,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <limits>
 #include <map>
 #include <mutex>
 #include <set>
@@ -23,9 +26,13 @@
 #include "core/association.h"
 #include "core/atomic_file.h"
 #include "core/errors.h"
+#include "core/log.h"
 #include "core/mrpt_messages.h"
+#include "core/stamp_order.h"
+#include "core/stderr_capture.h"
+#include "rawlog/bag_index.h"
 #include "rawlog/bag_messages.h"
-#include "rawlog/image_checks.h"
+#include "rawlog/reader_crash_probe.h"
 #include "rawlog/tum_folder_source.h"
 
 namespace dynslam {
@@ -41,6 +48,11 @@ constexpr const char* kTfType = "tf2_msgs/TFMessage";
 /// A groundtruth quaternion further from unit length is damage, not
 /// rounding (readTumTrajectory's limit for groundtruth files).
 constexpr double kMaxQuaternionNormError = 0.1;
+/// A 32FC1 depth topic with more of its measured pixels beyond what 16-bit
+/// units hold (65535 / kMetricDepthUnitsPerMetre = 13.1 m) is not in metres
+/// (millimetres labelled 32FC1 put nearly all of it there) and is refused;
+/// fewer are read as "no depth" with a warning (a far wall, a window).
+constexpr double kMaxShareOfDepthBeyondRange = 0.5;
 
 struct TopicInfo {
   std::string type;
@@ -51,9 +63,22 @@ std::string stripSlash(const std::string& frame) {
   return !frame.empty() && frame[0] == '/' ? frame.substr(1) : frame;
 }
 
-double stampOf(const std_msgs::Header& h, const rosbag::MessageInstance& m) {
-  // A message without a header stamp is placed at its recording time.
-  return h.stamp.isZero() ? m.getTime().toSec() : h.stamp.toSec();
+/// rosbag reports through console_bridge what it then skips or throws
+/// ("Index entry ... invalid time"): dynslam checks the same things itself
+/// (checkBagIndex, the message counts) and says so in its one line.
+void silenceRosbagMessages() {
+  console_bridge::setLogLevel(console_bridge::CONSOLE_BRIDGE_LOG_NONE);
+}
+
+/// The bag, open for reading. rosbag::Bag looks up its encryption plugins
+/// through rospack, which prints warnings about its cache on stderr when
+/// ROS_HOME (or HOME) is not writable: they say nothing about the bag and
+/// must not reach the user, so stderr is captured (and dropped) meanwhile.
+std::unique_ptr<rosbag::Bag> openRosbag(const std::string& path) {
+  StderrCapture rospack_warnings;
+  auto bag = std::make_unique<rosbag::Bag>();
+  bag->open(path, rosbag::bagmode::Read);
+  return bag;
 }
 
 }  // namespace
@@ -62,14 +87,16 @@ struct BagSource::Impl {
   std::string path;
   BagTopics topics;
   PinholeCamera camera;
+  std::string camera_origin;  ///< the camera YAML or the CameraInfo topic (messages)
   bool compressed_rgb = false;
   std::string depth_encoding;
   std::string depth_units;
-  mutable rosbag::Bag bag;
+  std::unique_ptr<rosbag::Bag> bag;                 // (its reads are const)
   mutable std::mutex mutex;                         // rosbag::Bag reads through one file position
   std::vector<rosbag::MessageInstance> rgb, depth;  // bag order
   std::vector<double> rgb_t, depth_t;
   std::vector<std::pair<std::size_t, std::size_t>> pairs;  // (rgb, depth) indices
+  std::size_t frames_stamp_not_advancing = 0;
   Trajectory groundtruth;
   std::vector<std::array<double, 8>> groundtruth_rows;  // t x y z qx qy qz qw, as in /tf
   std::map<std::string, TopicInfo> all;
@@ -112,16 +139,55 @@ struct BagSource::Impl {
   }
 
   void openBag() {
-    if (!fileExists(path)) throw InputError(path, "no such ROS bag");
+    requireRegularFile(path, "ROS bag");
+    silenceRosbagMessages();
+    const std::optional<BagTopicCounts> indexed = checkBagIndex(path);
+    refuseMessagesThatCrashRosbag();
     try {
-      bag.open(path, rosbag::bagmode::Read);
-      rosbag::View view(bag);
+      bag = openRosbag(path);
+      rosbag::View view(*bag);
       for (const rosbag::ConnectionInfo* c : view.getConnections())
         all[c->topic].type = c->datatype;
       for (const rosbag::MessageInstance& m : view) ++all[m.getTopic()].messages;
     } catch (const std::exception& e) {
       throw InputError(path, "cannot read the ROS bag: " + oneLineMessage(e.what()));
     }
+    for (const auto& [topic, info] : all) {
+      if (!indexed) break;  // not format 2.0: rosbag's own checks only
+      const auto it = indexed->find(topic);
+      const std::size_t promised = it == indexed->end() ? 0 : it->second;
+      if (info.messages != promised)
+        throw InputError(path, "damaged ROS bag index: topic " + topic +
+                                   ": its chunk info records count " + std::to_string(promised) +
+                                   " messages, rosbag reads " + std::to_string(info.messages));
+    }
+  }
+
+  /// rosbag trusts the offsets in a chunk's messages: the bag is first read
+  /// whole (every message's bytes, as the reads below and load() do) by the
+  /// crash probe. Progress: 1 once open, 1 + N after N messages.
+  void refuseMessagesThatCrashRosbag() const {
+    const ReaderCrash crash = probeReaderForCrash([&](const ReadProgress& progress) {
+      const std::unique_ptr<rosbag::Bag> probe = openRosbag(path);
+      progress(1);
+      rosbag::View view(*probe);
+      std::uint64_t n = 1;
+      for (const rosbag::MessageInstance& m : view) {
+        const uint32_t size = m.size();
+        // Not zeroed: a damaged size must not cost its gigabytes before the copy fails.
+        const std::unique_ptr<uint8_t[]> bytes(new uint8_t[size]);
+        ros::serialization::OStream out(bytes.get(), size);
+        m.write(out);
+        progress(++n);
+      }
+    });
+    if (crash.crashed)
+      throw InputError(
+          path,
+          "corrupt ROS bag: " +
+              (crash.done == 0 ? std::string("its index")
+                               : "message " + std::to_string(crash.done) + " (in time order)") +
+              " cannot be read (rosbag's reader crashed on it: " + crash.signalName() + ")");
   }
 
   void chooseTopics(const BagTopics& given) {
@@ -163,77 +229,91 @@ struct BagSource::Impl {
                                                        : "";
   }
 
+  /// The camera YAML when given (the bag's CameraInfo is then not used),
+  /// else the CameraInfo topic, every message of which must agree.
   void readCamera(const std::string& camera_config) {
-    if (!topics.camera_info.empty()) {
-      if (all.at(topics.camera_info).type != kCameraInfoType)
-        throw InputError(path, "topic " + topics.camera_info + " holds " +
-                                   all.at(topics.camera_info).type +
-                                   ", not sensor_msgs/CameraInfo");
-      rosbag::View view(bag, rosbag::TopicQuery(topics.camera_info));
-      if (view.begin() == view.end())
-        throw InputError(path, "topic " + topics.camera_info + " holds no messages");
-      const auto info = view.begin()->instantiate<sensor_msgs::CameraInfo>();
-      if (!info) throw InputError(where(topics.camera_info, 0), "not a sensor_msgs/CameraInfo");
-      camera = cameraFromInfo(*info, path + " " + topics.camera_info, where(topics.camera_info, 0));
-    }
     if (!camera_config.empty()) {
       camera = loadCameraYaml(camera_config);
-    } else if (topics.camera_info.empty()) {
+      camera_origin = camera_config;
+      return;
+    }
+    if (topics.camera_info.empty())
       throw InputError(path, "no sensor_msgs/CameraInfo topic for " + topics.rgb +
                                  "; give a camera YAML (run --camera, convert --config)");
+    const std::string& topic = topics.camera_info;
+    if (all.at(topic).type != kCameraInfoType)
+      throw InputError(
+          path, "topic " + topic + " holds " + all.at(topic).type + ", not sensor_msgs/CameraInfo");
+    camera_origin = topic;
+    std::size_t n = 0;
+    for (const rosbag::MessageInstance& m : rosbag::View(*bag, rosbag::TopicQuery(topic))) {
+      const auto info = m.instantiate<sensor_msgs::CameraInfo>();
+      if (!info) throw InputError(where(topic, n), "not a sensor_msgs/CameraInfo");
+      const PinholeCamera c = cameraFromInfo(*info, path + " " + topic, where(topic, n));
+      if (n == 0) camera = c;
+      if (!c.sameGeometry(camera))
+        throw InputError(where(topic, n),
+                         "the camera changes: " + describe(c) + " after " + describe(camera) +
+                             " in message 1 (dynslam runs one camera: give its YAML with run "
+                             "--camera, convert --config)");
+      ++n;
     }
+    if (n == 0) throw InputError(path, "topic " + topic + " holds no messages");
+  }
+
+  static std::string describe(const PinholeCamera& c) {
+    char s[160];
+    std::snprintf(s, sizeof s, "%dx%d fx %.6g fy %.6g cx %.6g cy %.6g", c.width, c.height, c.fx,
+                  c.fy, c.cx, c.cy);
+    return s;
   }
 
   void checkSize(uint32_t width, uint32_t height, const std::string& topic, std::size_t n) const {
     if (static_cast<int>(width) != camera.width || static_cast<int>(height) != camera.height)
-      throw InputError(where(topic, n),
-                       "image is " + std::to_string(width) + "x" + std::to_string(height) +
-                           ", the camera (" +
-                           (topics.camera_info.empty() ? "--camera" : topics.camera_info) +
-                           ") is " + std::to_string(camera.width) + "x" +
-                           std::to_string(camera.height) + ": mismatched image sizes");
+      throw InputError(where(topic, n), "image is " + std::to_string(width) + "x" +
+                                            std::to_string(height) + ", the camera (" +
+                                            camera_origin + ") is " + std::to_string(camera.width) +
+                                            "x" + std::to_string(camera.height) +
+                                            ": mismatched image sizes");
   }
 
   void readImages() {
-    rosbag::View view(bag, rosbag::TopicQuery(std::vector<std::string>{topics.rgb, topics.depth}));
+    rosbag::View view(*bag, rosbag::TopicQuery(std::vector<std::string>{topics.rgb, topics.depth}));
+    DepthRange range;
+    std::size_t frames_beyond_range = 0;
     for (const rosbag::MessageInstance& m : view) {
       const bool is_rgb = m.getTopic() == topics.rgb;
       const std::string& topic = m.getTopic();
       const std::size_t n = is_rgb ? rgb.size() : depth.size();
+      const std::string at = where(topic, n);
       try {
         if (is_rgb && compressed_rgb) {
           const auto msg = m.instantiate<sensor_msgs::CompressedImage>();
-          if (!msg) throw InputError(where(topic, n), "not a sensor_msgs/CompressedImage");
-          if (msg->data.empty()) throw InputError(where(topic, n), "empty compressed image");
-          rgb_t.push_back(stampOf(msg->header, m));
+          if (!msg) throw InputError(at, "not a sensor_msgs/CompressedImage");
+          if (msg->data.empty()) throw InputError(at, "empty compressed image");
+          rgb_t.push_back(msg->header.stamp.toSec());
         } else {
           const auto msg = m.instantiate<sensor_msgs::Image>();
-          if (!msg) throw InputError(where(topic, n), "not a sensor_msgs/Image");
-          if (is_rgb && !isRgbEncoding(msg->encoding))
-            throw InputError(where(topic, n), "unknown RGB encoding '" + msg->encoding +
-                                                  "' (expected " + rgbEncodingList() + ")");
-          if (!is_rgb) {
+          if (!msg) throw InputError(at, "not a sensor_msgs/Image");
+          if (is_rgb) {
+            checkRgbImage(*msg, at);
+          } else {
             const std::string e = depthEncoding(msg->encoding);
-            if (e.empty())
-              throw InputError(where(topic, n),
-                               "unknown depth encoding '" + msg->encoding +
-                                   "' (expected 32FC1 metres or 16UC1 millimetres)");
             if (depth_encoding.empty()) depth_encoding = e;
-            if (e != depth_encoding)
-              throw InputError(where(topic, n), "depth encoding " + e + " after " + depth_encoding +
-                                                    " in the earlier messages");
+            if (!e.empty() && e != depth_encoding)
+              throw InputError(at, "depth encoding " + e + " after " + depth_encoding +
+                                       " in the earlier messages");
+            const std::size_t before = range.beyond_range;
+            depthFromImage(*msg, depthUnitsPerMetre(e), at, &range);
+            if (range.beyond_range > before) ++frames_beyond_range;
           }
-          if (msg->step * static_cast<std::size_t>(msg->height) != msg->data.size())
-            throw InputError(where(topic, n), "image data holds " +
-                                                  std::to_string(msg->data.size()) +
-                                                  " bytes, not step x height");
           checkSize(msg->width, msg->height, topic, n);
-          (is_rgb ? rgb_t : depth_t).push_back(stampOf(msg->header, m));
+          (is_rgb ? rgb_t : depth_t).push_back(msg->header.stamp.toSec());
         }
       } catch (const InputError&) {
         throw;
       } catch (const std::exception& e) {
-        throw InputError(where(topic, n), "cannot read message: " + oneLineMessage(e.what()));
+        throw InputError(at, "cannot read message: " + oneLineMessage(e.what()));
       }
       (is_rgb ? rgb : depth).push_back(m);
     }
@@ -245,15 +325,49 @@ struct BagSource::Impl {
                             std::to_string(static_cast<int>(kMetricDepthUnitsPerMetre)) +
                             " units per metre"
                       : "16UC1 millimetres on " + topics.depth;
+    refuseOrReportDepthBeyondRange(range, frames_beyond_range);
     pairs = associateTimestamps(rgb_t, depth_t, kTumPairMaxGap);
     if (pairs.empty())
       throw InputError(path, "no RGB-D pairs: no " + topics.rgb + " and " + topics.depth +
                                  " stamps within " + std::to_string(kTumPairMaxGap) + " s");
+    keepAdvancingStamps();
+  }
+
+  void refuseOrReportDepthBeyondRange(const DepthRange& range, std::size_t frames) const {
+    if (range.beyond_range == 0) return;
+    char limit[32];
+    std::snprintf(limit, sizeof limit, "%.3f m",
+                  std::numeric_limits<uint16_t>::max() / kMetricDepthUnitsPerMetre);
+    const std::string counts = std::to_string(range.beyond_range) + " of " +
+                               std::to_string(range.measured) + " measured depth pixels (in " +
+                               std::to_string(frames) + " frames) of " + topics.depth +
+                               " are beyond " + limit;
+    if (range.beyond_range > kMaxShareOfDepthBeyondRange * range.measured)
+      throw InputError(path, counts + ": not 32FC1 metres (millimetres labelled 32FC1?)");
+    logf(LogLevel::kWarn, "input", "%s: %s, the most 32FC1 depth can hold: read as no depth",
+         path.c_str(), counts.c_str());
+  }
+
+  /// core/stamp_order.h's rule on the pairs in the order their RGB was
+  /// recorded: a frame whose stamp does not advance is dropped and counted.
+  void keepAdvancingStamps() {
+    std::sort(pairs.begin(), pairs.end());  // by RGB message, i.e. in bag order
+    StampOrderGate gate;
+    std::vector<std::pair<std::size_t, std::size_t>> kept;
+    for (const auto& p : pairs)
+      if (gate.admit(rgb_t[p.first])) kept.push_back(p);
+    pairs = std::move(kept);
+    frames_stamp_not_advancing = gate.refused();
+    if (frames_stamp_not_advancing > 0)
+      logf(LogLevel::kWarn, "input",
+           "%s: %zu frames dropped: their %s stamp does not advance past the frame before "
+           "(duplicated, zero or backwards stamps)",
+           path.c_str(), frames_stamp_not_advancing, topics.rgb.c_str());
   }
 
   void readGroundtruth() {
     if (!has(kTumBagTfTopic) || all.at(kTumBagTfTopic).type != kTfType) return;
-    rosbag::View view(bag, rosbag::TopicQuery(kTumBagTfTopic));
+    rosbag::View view(*bag, rosbag::TopicQuery(kTumBagTfTopic));
     std::size_t n = 0;
     for (const rosbag::MessageInstance& m : view) {
       const auto tf = m.instantiate<tf2_msgs::TFMessage>();
@@ -333,6 +447,7 @@ void BagSource::writeGroundtruth(const std::string& path, const std::string& com
 SourceNotes BagSource::notes() const {
   SourceNotes n;
   n.depth_units = impl_->depth_units;
+  n.frames_stamp_not_advancing = impl_->frames_stamp_not_advancing;
   return n;
 }
 
@@ -347,16 +462,21 @@ RGBDFrame BagSource::load(std::size_t i) const {
   f.depth_source = d.where(d.topics.depth, di);
   std::lock_guard<std::mutex> lock(d.mutex);
   try {
-    f.rgb = d.compressed_rgb
-                ? bgrFromCompressed(*d.rgb[ri].instantiate<sensor_msgs::CompressedImage>())
-                : bgrFromImage(*d.rgb[ri].instantiate<sensor_msgs::Image>());
-    f.depth = depthFromImage(*d.depth[di].instantiate<sensor_msgs::Image>(), d.camera.depth_scale);
+    if (d.compressed_rgb) {
+      f.rgb =
+          bgrFromCompressed(*d.rgb[ri].instantiate<sensor_msgs::CompressedImage>(), f.rgb_source);
+    } else {
+      f.rgb = bgrFromImage(*d.rgb[ri].instantiate<sensor_msgs::Image>(), f.rgb_source);
+    }
+    f.depth = depthFromImage(*d.depth[di].instantiate<sensor_msgs::Image>(), d.camera.depth_scale,
+                             f.depth_source);
+  } catch (const InputError&) {
+    throw;
   } catch (const std::exception& e) {
     throw InputError(f.rgb_source, "cannot convert the images: " + oneLineMessage(e.what()));
   }
-  if (f.rgb.empty()) throw InputError(f.rgb_source, "compressed image does not decode");
-  checkImageSize(f.rgb, d.camera, f.rgb_source);
-  checkImageSize(f.depth, d.camera, f.depth_source);
+  // A compressed image's size is known only now; the others were checked at open.
+  d.checkSize(uint32_t(f.rgb.cols), uint32_t(f.rgb.rows), d.topics.rgb, ri);
   return f;
 }
 

@@ -4,11 +4,14 @@
 // and `eval` take bags as they take TUM folders and rawlogs. Messages are
 // read with rosbag's C++ API and converted with cv_bridge: no parser of ours.
 //
-// The bag is checked whole when opened (topics, types, encodings, sizes,
-// every message deserialised once), so a damaged bag fails before the run
-// starts; pixels are converted on load(). RGB and depth are paired by header
+// The bag is checked whole when opened (its index records, a read of every
+// message by the crash probe, topics, types, encodings, sizes, every CameraInfo,
+// every depth image converted once), so a damaged bag fails before the run
+// starts; RGB pixels are decoded on load(). RGB and depth are paired by header
 // stamp as associate.py pairs TUM lists (kTumPairMaxGap), so frame i of a TUM
-// bag is frame i of the TUM folder. Built only with ROS (cmake/DynslamRos.cmake).
+// bag is frame i of the TUM folder; a pair whose RGB stamp does not advance
+// (core/stamp_order.h) is dropped and counted. Built only with ROS
+// (cmake/DynslamRos.cmake).
 #include <memory>
 #include <string>
 
@@ -35,14 +38,17 @@ inline constexpr double kMillimetreDepthUnitsPerMetre = 1000.0;
 
 class BagSource : public FrameSource {
  public:
-  /// camera_config: a camera YAML whose intrinsics replace the bag's
-  /// CameraInfo (depth units always follow the depth encoding). topics:
+  /// camera_config: a camera YAML used instead of the bag's CameraInfo (which
+  /// is then not read; depth units always follow the depth encoding). topics:
   /// empty names take the TUM bags' topics when present, else the only
-  /// candidate. Throws InputError(path) naming the topic for an unreadable
-  /// or truncated bag, no image topics, a message of the wrong type, an
-  /// unknown encoding, images of mismatched sizes, no CameraInfo (and no
-  /// camera_config) or no RGB-D pair; UsageError listing the image topics and
-  /// their message counts when a topic is ambiguous or not in the bag.
+  /// candidate. Throws InputError(path) naming the topic for a path that is
+  /// not a regular file, an unreadable, truncated or damaged bag (index
+  /// records, a message that crashes rosbag), no image topics, a message of
+  /// the wrong type, an unknown encoding, images of mismatched sizes, no
+  /// CameraInfo (and no camera_config), CameraInfo messages that disagree or
+  /// a distortion model other than plumb_bob, 32FC1 depth mostly beyond 16-bit
+  /// range, or no RGB-D pair; UsageError listing the image topics and their
+  /// message counts when a topic is ambiguous or not in the bag.
   BagSource(const std::string& path, const std::string& camera_config = "",
             const BagTopics& topics = {});
   ~BagSource() override;

@@ -4,6 +4,7 @@
 
 #include <csetjmp>
 #include <cstring>
+#include <functional>
 
 #include <jerror.h>
 #include <jpeglib.h>
@@ -200,13 +201,16 @@ cv::Mat decodePng(const std::string& path, const std::string& bytes, DecodedImag
   return out;
 }
 
-cv::Mat decodeOther(const std::string& path, DecodedImage as) {
+/// cv::imread or cv::imdecode, which print nothing a user could act on and
+/// return an empty image for data they cannot decode.
+cv::Mat decodeOther(const std::string& path, DecodedImage as,
+                    const std::function<cv::Mat(int flags)>& decode) {
   const int flags = as == DecodedImage::kBgr8    ? cv::IMREAD_COLOR
                     : as == DecodedImage::kGray8 ? cv::IMREAD_GRAYSCALE
                                                  : cv::IMREAD_UNCHANGED;
   cv::Mat img;
   try {
-    img = cv::imread(path, flags);
+    img = decode(flags);
   } catch (const cv::Exception& e) {
     throw InputError(path, "cannot decode image: " + std::string(e.err));
   }
@@ -217,16 +221,35 @@ cv::Mat decodeOther(const std::string& path, DecodedImage as) {
   return img;
 }
 
+/// PNG and JPEG by their first bytes to libpng and libjpeg, anything else
+/// to `other`.
+cv::Mat decodeBytes(const std::string& where, const std::string& bytes, DecodedImage as,
+                    const std::function<cv::Mat(int flags)>& other) {
+  static const unsigned char kPng[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n'};
+  if (bytes.size() >= 8 && std::memcmp(bytes.data(), kPng, 8) == 0)
+    return decodePng(where, bytes, as);
+  if (bytes.size() >= 3 && bytes.compare(0, 3, "\xFF\xD8\xFF") == 0)
+    return decodeJpeg(where, bytes, as);
+  return decodeOther(where, as, other);
+}
+
 }  // namespace
 
 cv::Mat decodeImageFile(const std::string& path, DecodedImage as, const std::string& what) {
   const std::string bytes = readRegularFile(path, what, kMaxImageFileBytes);
-  static const unsigned char kPng[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n'};
-  if (bytes.size() >= 8 && std::memcmp(bytes.data(), kPng, 8) == 0)
-    return decodePng(path, bytes, as);
-  if (bytes.size() >= 3 && bytes.compare(0, 3, "\xFF\xD8\xFF") == 0)
-    return decodeJpeg(path, bytes, as);
-  return decodeOther(path, as);
+  return decodeBytes(path, bytes, as, [&](int flags) { return cv::imread(path, flags); });
+}
+
+cv::Mat decodeImageBytes(const std::string& bytes, DecodedImage as, const std::string& where) {
+  if (bytes.empty()) throw InputError(where, "empty image data");
+  if (bytes.size() > kMaxImageFileBytes)
+    throw InputError(where,
+                     "image data of " + std::to_string(bytes.size()) + " bytes is too large");
+  return decodeBytes(where, bytes, as, [&](int flags) {
+    return cv::imdecode(
+        cv::Mat(1, static_cast<int>(bytes.size()), CV_8UC1, const_cast<char*>(bytes.data())),
+        flags);
+  });
 }
 
 }  // namespace dynslam

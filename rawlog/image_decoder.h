@@ -34,4 +34,10 @@ constexpr std::uint64_t kMaxImageFileBytes = std::uint64_t(1) << 30;
 cv::Mat decodeImageFile(const std::string& path, DecodedImage as,
                         const std::string& what = "PNG or JPEG image");
 
+/// The same decoder for bytes held in memory (a ROS CompressedImage):
+/// `where` names them in the errors ("BAG (topic T, message N)"). Bytes that
+/// are neither PNG nor JPEG go to cv::imdecode; empty or undecodable bytes
+/// are an InputError.
+cv::Mat decodeImageBytes(const std::string& bytes, DecodedImage as, const std::string& where);
+
 }  // namespace dynslam

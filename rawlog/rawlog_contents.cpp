@@ -6,19 +6,13 @@
 #include <mrpt/obs/CSensoryFrame.h>
 #include <mrpt/serialization/CArchive.h>
 
-#include <fcntl.h>
-#include <sys/resource.h>
-#include <sys/wait.h>
-#include <unistd.h>
-
-#include <cerrno>
-#include <cstring>
 #include <cstdint>
 
 #include "core/atomic_file.h"
 #include "core/errors.h"
 #include "core/mrpt_messages.h"
 #include "rawlog/image_checks.h"
+#include "rawlog/reader_crash_probe.h"
 
 namespace dynslam {
 using mrpt::obs::CObservation3DRangeScan;
@@ -34,58 +28,24 @@ std::string className(const mrpt::serialization::CSerializable& obj) {
 }
 
 /// MRPT's object readers trust the sizes in the stream: a corrupt range-image
-/// size makes CObservation3DRangeScan write past its buffer, a crash inside
-/// MRPT that no exception reports. So the file is first read in a forked
-/// child, which reports each object it finished through a pipe; when the
-/// child dies of a signal, the object it was reading is named. (Other read
-/// errors are left to the real read, which names them.)
+/// size makes CObservation3DRangeScan write past its buffer. The file is
+/// first read by the crash probe, counting objects; when it crashes, the
+/// object it was reading is named. (Other read errors are left to the real
+/// read, which names them.)
 void refuseObjectsThatCrashTheReader(const std::string& path) {
-  int fds[2];
-  if (pipe(fds) != 0) return;  // no probe: the read below still reports what it can
-  const pid_t pid = fork();
-  if (pid < 0) {
-    close(fds[0]);
-    close(fds[1]);
-    return;
-  }
-  if (pid == 0) {  // the child: read everything, say how far it got, never clean up
-    close(fds[0]);
-    const rlimit no_core{0, 0};
-    setrlimit(RLIMIT_CORE, &no_core);
-    const int null_fd = open("/dev/null", O_WRONLY);
-    if (null_fd >= 0) dup2(null_fd, 1), dup2(null_fd, 2);
-    try {
-      mrpt::io::CFileGZInputStream file;
-      if (!file.open(path)) _exit(0);
-      auto in = mrpt::serialization::archiveFrom(file);
-      for (uint64_t n = 1;; ++n) {
-        in.ReadObject();
-        if (write(fds[1], &n, sizeof n) != sizeof n) _exit(0);
-      }
-    } catch (...) {
+  const ReaderCrash crash = probeReaderForCrash([&](const ReadProgress& progress) {
+    mrpt::io::CFileGZInputStream file;
+    if (!file.open(path)) return;
+    auto in = mrpt::serialization::archiveFrom(file);
+    for (uint64_t n = 1;; ++n) {
+      in.ReadObject();
+      progress(n);
     }
-    _exit(0);
-  }
-  close(fds[1]);
-  uint64_t done = 0, n = 0;
-  for (;;) {
-    const ssize_t got = read(fds[0], &n, sizeof n);
-    if (got == sizeof n) {
-      done = n;
-    } else if (got < 0 && errno == EINTR) {
-      continue;
-    } else {
-      break;
-    }
-  }
-  close(fds[0]);
-  int status = 0;
-  while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
-  }
-  if (WIFSIGNALED(status))
-    throw InputError(path, "corrupt rawlog: " + ordinal(done) +
-                               " cannot be read (MRPT's reader crashed on it: " +
-                               strsignal(WTERMSIG(status)) + ")");
+  });
+  if (crash.crashed)
+    throw InputError(
+        path, "corrupt rawlog: " + ordinal(crash.done) +
+                  " cannot be read (MRPT's reader crashed on it: " + crash.signalName() + ")");
 }
 
 }  // namespace

@@ -26,7 +26,7 @@ std::string JsonWriter::escape(const std::string& s) {
         o += "\\r";
         break;
       default:
-        if (c < 0x20) {
+        if (c < 0x20 || c == 0x7F) {  // DEL: not printable in YAML, which shares this
           char b[8];
           std::snprintf(b, sizeof b, "\\u%04x", c);
           o += b;

@@ -29,6 +29,8 @@ class JsonWriter {
   /// The document; all objects/arrays must be closed.
   std::string str() const;
 
+  /// `s` as a quoted JSON string, every control character (and DEL) escaped;
+  /// also a YAML double-quoted scalar (yamlQuote).
   static std::string escape(const std::string& s);
 
  private:

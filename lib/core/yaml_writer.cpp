@@ -3,15 +3,14 @@
 #include <charconv>
 #include <stdexcept>
 
+#include "core/json_writer.h"
+
 namespace dynslam {
 
 std::string yamlQuote(const std::string& s) {
-  std::string o = "\"";
-  for (char c : s) {
-    if (c == '"' || c == '\\') o += '\\';
-    o += c;
-  }
-  return o + "\"";
+  // A JSON string is a YAML double-quoted scalar (YAML 1.2 reads JSON): one
+  // escaping for both writers, control characters and line breaks included.
+  return JsonWriter::escape(s);
 }
 
 namespace {

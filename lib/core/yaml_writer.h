@@ -11,7 +11,8 @@
 
 namespace dynslam {
 
-/// "text" with '"' and '\' escaped: a YAML double-quoted scalar.
+/// "text" as a YAML double-quoted scalar that reads back to the same bytes:
+/// '"', '\\' and every control character (line breaks too) escaped.
 std::string yamlQuote(const std::string& text);
 
 /// Shortest decimal text that reads back to exactly `v` ("0.1", "40", "1e-05").

@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "core/atomic_file.h"
+#include "core/yaml_writer.h"
 
 namespace dynslam {
 
@@ -45,7 +46,7 @@ std::string yamlText(const std::string& image_name, const OccupancyGrid2D& grid,
   std::snprintf(buf, sizeof buf, "# floor at level z = %.4f m (%s)\n", frame.floor_height,
                 frame.floor_source.c_str());
   y << buf;
-  y << "image: " << image_name << "\n";
+  y << "image: " << yamlQuote(image_name) << "\n";  // a file name may hold any character
   std::snprintf(buf, sizeof buf, "resolution: %.6f\norigin: [%.6f, %.6f, 0.0]\n", grid.resolution,
                 grid.origin_x, grid.origin_y);
   y << buf << "negate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\n";

@@ -3,6 +3,7 @@
 // a shell keeps whole.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <limits>
 
@@ -62,6 +63,27 @@ TEST(YamlWriter, NestedSectionsReadBackThroughConfigSection) {
   inner.rejectUnknownKeys();
   outer.rejectUnknownKeys();
   root.rejectUnknownKeys();
+}
+
+// A bag's topic may hold a line break (issue 65): YAML folds one inside
+// quotes into a space, and forbids other control characters in a file.
+TEST(YamlWriter, ControlCharactersReadBackAsWritten) {
+  test::TempDir d;
+  const char binary[] = "nul\0bell\a\x1b[0m\x7f";
+  const std::string odd[] = {"/camera/rgb/image\ncolor", "tab\there", "cr\r\nlf",
+                             std::string(binary, sizeof binary - 1), "trailing\\"};
+  YamlWriter w;
+  for (std::size_t i = 0; i < std::size(odd); ++i) w.value("s" + std::to_string(i), odd[i]);
+  const std::string text = w.str();
+  EXPECT_EQ(std::count(text.begin(), text.end(), '\n'), std::ptrdiff_t(std::size(odd))) << text;
+  for (unsigned char c : text) EXPECT_TRUE(c == '\n' || (c >= 0x20 && c != 0x7F)) << int(c);
+  test::writeText(d / "w.yaml", w.str());
+  ConfigSection root(loadYamlFile(d / "w.yaml"), d / "w.yaml", "");
+  for (std::size_t i = 0; i < std::size(odd); ++i) {
+    std::string back;
+    root.read("s" + std::to_string(i), back);
+    EXPECT_EQ(back, odd[i]) << i;
+  }
 }
 
 TEST(YamlWriter, UnbalancedEndSectionThrows) {

@@ -141,7 +141,7 @@ TEST_F(OccupancyExportCli, GridPairAndReport) {
   const std::string report = test::readText(out / "grid.yaml.export.json");
   EXPECT_EQ(jsonNumber(report, "max_height_above_floor"), 1.0);
   EXPECT_EQ(jsonNumber(report, "width"), img.cols);
-  EXPECT_TRUE(test::readText(out / "grid.yaml").find("image: grid.pgm") != std::string::npos);
+  EXPECT_TRUE(test::readText(out / "grid.yaml").find("image: \"grid.pgm\"") != std::string::npos);
 }
 
 TEST_F(OccupancyExportCli, BadArgumentsAndUnwritableOutputsWriteNothing) {

@@ -235,3 +235,25 @@ TEST(ImageDecoder, AnImageFileOverAGibibyteIsNotRead) {
   EXPECT_NE(decodeError(path, DecodedImage::kDepth16).find("bytes is too large"),
             std::string::npos);
 }
+
+// A bag's CompressedImage is decoded from memory by the same decoder
+// (issue 65): the pixels cv::imread gives for the file, and the same errors,
+// naming the message instead of a file.
+TEST(ImageDecoder, BytesInMemoryDecodeAsTheirFile) {
+  const std::vector<std::string> files = sortedFiles(rpyDir() + "/rgb");
+  const std::string jpeg = readText(files[0]);
+  const std::string where = "x.bag (topic /rgb, message 1)";
+  const cv::Mat from_bytes = decodeImageBytes(jpeg, DecodedImage::kBgr8, where);
+  EXPECT_EQ(cv::norm(from_bytes, cv::imread(files[0], cv::IMREAD_COLOR), cv::NORM_INF), 0);
+  for (const std::string& bad :
+       {jpeg.substr(0, jpeg.size() / 2), std::string(), std::string(99, 'x')}) {
+    testing::internal::CaptureStderr();
+    try {
+      decodeImageBytes(bad, DecodedImage::kBgr8, where);
+      ADD_FAILURE() << "decoded " << bad.size() << " bytes";
+    } catch (const dynslam::InputError& e) {
+      EXPECT_EQ(e.file(), where);
+    }
+    EXPECT_EQ(testing::internal::GetCapturedStderr(), "");
+  }
+}

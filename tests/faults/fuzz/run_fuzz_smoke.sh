@@ -4,7 +4,8 @@
 #   run_fuzz_smoke.sh run BUILD_DIR TARGET SECONDS
 # `build` configures and builds this folder's project with clang++
 # (libFuzzer + AddressSanitizer) into BUILD_DIR. `run` writes small valid
-# inputs as the seed corpus of TARGET (ply_header, yaml_precheck, tum_list),
+# inputs as the seed corpus of TARGET (ply_header, yaml_precheck, tum_list,
+# bag_messages),
 # fuzzes it for SECONDS and fails on any finding, printing the input that
 # caused it (as hex) so it can be made a test.
 set -euo pipefail
@@ -44,6 +45,33 @@ case "$target" in
   tum_list)
     printf '# color images\n# timestamp filename\n1305031102.175304 rgb/1305031102.175304.png\n1305031102.211214 rgb/1305031102.211214.png\n1305031102.243211 rgb/1305031102.243211.png\n' >"$seeds/rgb.txt"
     printf '\xef\xbb\xbf1.0 depth/1.png\r\n2.5 depth/2.png\r\n' >"$seeds/bom_crlf.txt"
+    ;;
+  bag_messages)
+    # A kind byte (0 RGB Image, 1 depth Image, 2 CompressedImage, 3 CameraInfo),
+    # then the message as ROS serialises it (little-endian, u32-prefixed
+    # strings and arrays): a 2x2 image of each encoding, a 1x1 PNG, TUM's fr1 camera.
+    python3 - "$seeds" <<'PY'
+import struct, sys, binascii
+d = sys.argv[1]
+def s(b): return struct.pack('<I', len(b)) + b
+header = struct.pack('<III', 7, 1305031102, 175304000) + s(b'/openni_rgb_optical_frame')
+def image(enc, bpp, big=0):
+    return header + struct.pack('<II', 2, 2) + s(enc) + struct.pack('<BI', big, 2 * bpp) + s(bytes(range(4 * bpp)))
+png = binascii.unhexlify('89504e470d0a1a0a0000000d4948445200000001000000010802000000907753de'
+                         '0000000c4944415408d763f8cfc0000003010100c9fe92ef0000000049454e44ae426082')
+info = (header + struct.pack('<II', 480, 640) + s(b'plumb_bob') +
+        struct.pack('<I5d', 5, 0.2624, -0.9531, -0.0054, 0.0026, 1.1633) +
+        struct.pack('<9d', 517.3, 0, 318.6, 0, 516.5, 255.3, 0, 0, 1) +
+        struct.pack('<9d', 1, 0, 0, 0, 1, 0, 0, 0, 1) +
+        struct.pack('<12d', 517.3, 0, 318.6, 0, 0, 516.5, 255.3, 0, 0, 0, 1, 0) +
+        struct.pack('<6IB', 0, 0, 0, 0, 0, 0, 0))
+seeds = {'rgb8': b'\0' + image(b'rgb8', 3), 'mono8': b'\0' + image(b'mono8', 1),
+         'depth16': b'\1' + image(b'16UC1', 2), 'depth16be': b'\1' + image(b'16UC1', 2, 1),
+         'depth32': b'\1' + image(b'32FC1', 4), 'png': b'\2' + header + s(b'png') + s(png),
+         'info': b'\3' + info}
+for name, data in seeds.items():
+    open(f'{d}/{name}.msg', 'wb').write(data)
+PY
     ;;
   *) echo "fuzz: unknown target '$target'" >&2; exit 2 ;;
 esac
