@@ -96,9 +96,11 @@ std::string optionKeyList(ForEach&& for_each) {
   return keys;
 }
 
-/// Loads a YAML file; throws a one-line InputError(path[:line]) if it is
-/// missing, not valid YAML, repeats a key within a mapping, or holds
-/// something other than a mapping (an empty file is an empty mapping).
+/// Loads a YAML file, the one way dynslam reads YAML; throws a one-line
+/// InputError(path[:line]) if it is missing, not valid YAML, repeats a key
+/// within a mapping, nests lists or maps deeper than kMaxYamlNesting (see
+/// core/yaml_structure.h), or holds something other than a mapping (an empty
+/// file is an empty mapping).
 mrpt::containers::yaml loadYamlFile(const std::string& path);
 
 }  // namespace dynslam
