@@ -37,9 +37,10 @@ std::string scalarText(const mrpt::containers::yaml& node) {
 ConfigSection::ConfigSection(const mrpt::containers::yaml& node, std::string file,
                              std::string section)
     : node_(node), file_(std::move(file)), section_(std::move(section)) {
-  if (!node_.isNullNode() && !node_.isMap())
-    throw InputError(file_,
-                     (section_.empty() ? "the file" : section_) + ": expected a map of key: value");
+  if (!node_.isNullNode() && !node_.isMap()) {
+    if (section_.empty()) throw InputError(file_, "the file: expected a map of key: value");
+    failAt(section_, section_ + ": expected a map of key: value");
+  }
 }
 
 bool ConfigSection::has(const std::string& key) const {
@@ -55,7 +56,7 @@ ConfigSection& ConfigSection::readList(const std::string& key, std::vector<std::
     for (const auto& v : node_[key].asSequence()) out.push_back(v.as<std::string>());
     value = std::move(out);
   } catch (const std::exception&) {
-    throw InputError(file_, where + ": expected a list of strings");
+    failAt(where, where + ": expected a list of strings");
   }
   return *this;
 }
@@ -76,8 +77,8 @@ void ConfigSection::failAt(const std::string& dotted_key, const std::string& mes
   failAtKey(file_, dotted_key, message);
 }
 
-void ConfigSection::failValue(const std::string& where) const {
-  failAt(where, where + ": wrong type or value");
+void ConfigSection::failValue(const std::string& where, const char* expected) const {
+  failAt(where, where + " " + expected);
 }
 
 void ConfigSection::rejectUnknownKeys() const {

@@ -180,3 +180,29 @@ TEST(DeepYaml, RunInfoReadByExport) {
   expectHandledFault(r, 1, d / "run/run_info.yaml:2:");
   EXPECT_FALSE(fs::exists(d / "map.ply"));
 }
+
+// Issue 65: a list or map where one value belongs (and a value where a map
+// or list belongs) gave MRPT's assertion text with no line.
+TEST_F(BadYaml, ValueOfTheWrongShapeNamesItsLineAndWhatItMustBe) {
+  const auto replaced = [](const std::string& from, const std::string& to) {
+    std::string cam = kCamera;
+    cam.replace(cam.find(from), from.size(), to);
+    return cam;
+  };
+  expectRejected(replaced("fx: 517.3", "fx: - 1"), true, ":4: not valid YAML");
+  expectRejected(replaced("fx: 517.3", "fx:\n    - 1"), true, ":4: camera.fx must be a number");
+  expectRejected(replaced("fx: 517.3", "fx: {a: 1}"), true, ":4: camera.fx must be a number");
+  expectRejected(replaced("width: 640", "width: [640]"), true,
+                 ":2: camera.width must be a whole number");
+  expectRejected(std::string(kCamera) + "  name: [a, b]\n", true,
+                 ":9: camera.name must be a single value");
+  expectRejected("camera: 5\n", true, ":1: camera: expected a map");
+  expectRejected("camera:\n  - 640\n", true, ":1: camera: expected a map");
+  expectRejected("orb:\n  n_features: [1000]\n", false, ":2: orb.n_features must be a whole number");
+  expectRejected("system:\n  final_global_ba: {x: 1}\n", false,
+                 ":2: system.final_global_ba must be true or false");
+  expectRejected("orb:\n  - 1\n", false, ":1: orb: expected a map");
+  expectRejected("dynamic:\n  detector: 5\n", false, ":2: dynamic.detector: expected a map");
+  expectRejected("dynamic:\n  detector:\n    dynamic_classes: {a: 1}\n", false,
+                 ":3: dynamic.detector.dynamic_classes: expected a list");
+}
