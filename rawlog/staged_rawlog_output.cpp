@@ -20,7 +20,7 @@ std::string hiddenSibling(const std::string& path, const std::string& tag) {
 
 const std::string& checkedRawlogPath(const std::string& path) {
   const fs::path p(path);
-  if (p.extension() != ".rawlog") throw InputError(path, "output name must end in .rawlog");
+  if (!isRawlogName(path)) throw InputError(path, "output name must end in .rawlog");
   if (isDirectory(path)) throw InputError(path, "is a folder, expected a .rawlog file name");
   const fs::path parent = p.parent_path().empty() ? fs::path(".") : p.parent_path();
   if (!isDirectory(parent.string()))
