@@ -66,6 +66,7 @@ void checkReplaceableSiblings(const std::string& rawlog, const std::string& imag
 
 StagedRawlogOutput::StagedRawlogOutput(const std::string& final_rawlog)
     : rawlog_(checkedRawlogPath(final_rawlog)),
+      lock_(final_rawlog),
       groundtruth_(rawlogGroundtruthPath(final_rawlog)),
       images_(rawlogImagesDir(final_rawlog)),
       tmp_images_(hiddenSibling(images_, "tmp")) {
