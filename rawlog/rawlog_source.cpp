@@ -64,8 +64,13 @@ RawlogSource::RawlogSource(const std::string& rawlog_path, const std::string& ca
                                         (s.obs->hasIntensityImage ? "a range (depth) image"
                                                                   : "an intensity (RGB) image"));
     }
-    scans_.push_back(s.obs);
+    if (stamps_.admit(mrpt::Clock::toDouble(s.obs->timestamp))) scans_.push_back(s.obs);
   }
+  if (scans_.empty())
+    throw InputError(rawlog_path, "no CObservation3DRangeScan '" + sensor_ +
+                                      "' has a valid time stamp (all are zero, negative or "
+                                      "repeat the first)");
+  stamps_.warnIfRefused(rawlog_path);
 
   const PinholeCamera stored = cameraFromScan(*scans_.front(), rawlog_path);
   camera_ = camera_config.empty() ? stored : loadCameraYaml(camera_config);
@@ -83,6 +88,7 @@ SourceNotes RawlogSource::notes() const {
                 camera_.depth_scale);
   n.depth_units = units;
   n.skipped_observations = skipped_;
+  n.frames_stamp_not_advancing = stamps_.refused();
   return n;
 }
 
