@@ -6,6 +6,8 @@
 // TUM folder lists refuse such stamps outright, naming the line, so convert
 // never writes a rawlog with them. Known data: fr1_rpy's own stamps, and
 // which of the frames written repeat, go back or are zero.
+#include <mrpt/system/datetime.h>
+
 #include <opencv2/imgcodecs.hpp>
 
 #include <filesystem>
@@ -33,6 +35,27 @@ std::vector<double> stampsIn(const std::string& path) {
 
 double stampOf(const std::string& image_path) { return std::stod(fs::path(image_path).stem()); }
 
+/// d/rec.rawlog: one RGBD scan per stamp, scan i with the mini sequence's
+/// frame i (fr1's camera).
+std::string writeRawlog(const TempDir& d, const MiniTum& tum, const std::vector<double>& stamps) {
+  const dynslam::PinholeCamera camera =
+      dynslam::loadCameraYaml(sourceDir() + "/configs/tum_fr1.yaml");
+  const std::string rawlog = d / "rec.rawlog";
+  MrptRawlogWriter w(rawlog);
+  for (std::size_t i = 0; i < stamps.size(); ++i) {
+    ScanSpec s;
+    s.label = "RGBD";
+    s.timestamp = stamps[i];
+    s.rgb_name = w.copyImage(tum.rgb[i], "rgb_" + std::to_string(i) +
+                                             fs::path(tum.rgb[i]).extension().string());
+    s.depth = cv::imread(tum.depth[i], cv::IMREAD_ANYDEPTH);
+    s.rgb_camera = s.depth_camera = camera.toMrpt();
+    w.scan(s);
+  }
+  w.close();
+  return rawlog;
+}
+
 }  // namespace
 
 TEST(RawlogStamps, FramesWhoseStampDoesNotAdvanceAreDroppedAndCounted) {
@@ -44,23 +67,7 @@ TEST(RawlogStamps, FramesWhoseStampDoesNotAdvanceAreDroppedAndCounted) {
   // 4's is zero: three dropped, frames 0, 1, 5, 6, 7 kept.
   const std::vector<double> written = {t[0], t[1], t[1], t[0], 0.0, t[5], t[6], t[7]};
   const std::vector<double> kept = {t[0], t[1], t[5], t[6], t[7]};
-  const dynslam::PinholeCamera camera =
-      dynslam::loadCameraYaml(sourceDir() + "/configs/tum_fr1.yaml");
-  const std::string rawlog = d / "rec.rawlog";
-  {
-    MrptRawlogWriter w(rawlog);
-    for (std::size_t i = 0; i < written.size(); ++i) {
-      ScanSpec s;
-      s.label = "RGBD";
-      s.timestamp = written[i];
-      s.rgb_name = w.copyImage(tum.rgb[i], "rgb_" + std::to_string(i) +
-                                                  fs::path(tum.rgb[i]).extension().string());
-      s.depth = cv::imread(tum.depth[i], cv::IMREAD_ANYDEPTH);
-      s.rgb_camera = s.depth_camera = camera.toMrpt();
-      w.scan(s);
-    }
-    w.close();
-  }
+  const std::string rawlog = writeRawlog(d, tum, written);
 
   const std::string out = d / "out";
   const SplitCommandResult run = runDynslamSplit({"run", rawlog, "-o", out, "--mode", "off"});
@@ -104,4 +111,18 @@ TEST(RawlogStamps, ConvertRefusesATumListWhoseStampsDoNotAdvance) {
   expectHandledFault(r, 1, tum.dir + "/rgb.txt:3: timestamp " + first + " is not after");
   EXPECT_FALSE(fs::exists(d / "x.rawlog"));
   EXPECT_FALSE(fs::exists(d / "x_Images"));
+}
+
+// MRPT's invalid stamp (its clock's zero, 1601) is no time: with every
+// stamp invalid no frame is left, and the rawlog is refused, exit 1, naming
+// it, with no run folder written.
+TEST(RawlogStamps, ARawlogWithoutAValidStampIsRefused) {
+  TempDir d;
+  const MiniTum tum = makeMiniTum(d.path(), 2);
+  const double mrpt_zero = -11644473600.0;  // 1601-01-01 in seconds since 1970
+  ASSERT_TRUE(mrpt::Clock::fromDouble(mrpt_zero) == INVALID_TIMESTAMP);
+  const std::string rawlog = writeRawlog(d, tum, {mrpt_zero, mrpt_zero});
+  const SplitCommandResult r = runDynslamSplit({"run", rawlog, "-o", d / "out", "--mode", "off"});
+  expectHandledFault(r, 1, rawlog + ": no CObservation3DRangeScan 'RGBD' has a valid time stamp");
+  EXPECT_FALSE(fs::exists(d / "out"));
 }
