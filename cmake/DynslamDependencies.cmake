@@ -17,6 +17,9 @@ find_package(GTest REQUIRED)
 # lib/mapexport so that the rest of the tree builds fast.
 find_package(Threads REQUIRED)
 find_package(PkgConfig REQUIRED)
+# libyaml (libyaml-dev): its event parser walks a YAML file's structure
+# before MRPT's recursive reader takes it (lib/core/yaml_structure.h).
+pkg_check_modules(LIBYAML REQUIRED IMPORTED_TARGET yaml-0.1)
 
 add_compile_definitions(DYNSLAM_VERSION="${PROJECT_VERSION}")
 

@@ -13,6 +13,10 @@ std::string sibling(const std::string& rawlog_path, const std::string& suffix) {
 }
 }  // namespace
 
+bool isRawlogName(const std::string& path) {
+  return std::filesystem::path(path).extension() == ".rawlog";
+}
+
 std::string rawlogImagesDir(const std::string& rawlog_path) {
   return sibling(rawlog_path, "_Images");
 }

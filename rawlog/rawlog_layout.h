@@ -18,6 +18,10 @@
 
 namespace dynslam {
 
+/// Whether `path` names a rawlog (ends in ".rawlog"): the one output name
+/// `convert` takes.
+bool isRawlogName(const std::string& path);
+
 /// "<dir>/<stem>_Images" for "<dir>/<stem>.rawlog".
 std::string rawlogImagesDir(const std::string& rawlog_path);
 

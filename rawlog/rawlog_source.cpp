@@ -48,6 +48,13 @@ PinholeCamera cameraFromScan(const CObservation3DRangeScan& s, const std::string
   return cam;
 }
 
+/// A scan's time stamp in seconds since 1970 for the stamp rule; MRPT's
+/// invalid stamp (no time recorded) is not a number, so the rule drops it
+/// (MRPT's own conversion gives 0 for it).
+double scanStamp(const CObservation3DRangeScan& s) {
+  return s.timestamp == INVALID_TIMESTAMP ? std::nan("") : mrpt::Clock::toDouble(s.timestamp);
+}
+
 }  // namespace
 
 RawlogSource::RawlogSource(const std::string& rawlog_path, const std::string& camera_config,
@@ -64,8 +71,13 @@ RawlogSource::RawlogSource(const std::string& rawlog_path, const std::string& ca
                                         (s.obs->hasIntensityImage ? "a range (depth) image"
                                                                   : "an intensity (RGB) image"));
     }
-    scans_.push_back(s.obs);
+    if (stamps_.admit(scanStamp(*s.obs))) scans_.push_back(s.obs);
   }
+  if (scans_.empty())
+    throw InputError(rawlog_path, "no CObservation3DRangeScan '" + sensor_ +
+                                      "' has a valid time stamp (every one is MRPT's invalid "
+                                      "stamp)");
+  stamps_.warnIfRefused(rawlog_path);
 
   const PinholeCamera stored = cameraFromScan(*scans_.front(), rawlog_path);
   camera_ = camera_config.empty() ? stored : loadCameraYaml(camera_config);
@@ -83,6 +95,7 @@ SourceNotes RawlogSource::notes() const {
                 camera_.depth_scale);
   n.depth_units = units;
   n.skipped_observations = skipped_;
+  n.frames_stamp_not_advancing = stamps_.refused();
   return n;
 }
 

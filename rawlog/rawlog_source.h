@@ -6,7 +6,9 @@
 // rawlog_layout.h). One 3D sensor (label) is used; other observations (IMU,
 // plain images, other sensors) are skipped and counted. A range image taken
 // by a separate depth camera is registered to the RGB camera on load
-// (depth_registration.h).
+// (depth_registration.h). A scan whose stamp does not advance past the last
+// one kept (repeated, zero, going back) is dropped and counted
+// (core/stamp_order.h).
 //
 // The whole rawlog is read once when opened, which validates it (truncated
 // files, foreign data, observations without images) before any frame is used.
@@ -20,6 +22,7 @@
 #include <vector>
 
 #include "core/rgbd_frame.h"
+#include "core/stamp_order.h"
 #include "rawlog/depth_registration.h"
 
 namespace mrpt::obs {
@@ -71,6 +74,7 @@ class RawlogSource : public FrameSource {
   std::vector<ScanPtr> scans_;
   std::optional<DepthRegistration> registration_;
   std::map<std::string, std::size_t> skipped_;
+  StampOrderGate stamps_;
   mutable std::mutex mutex_;
 };
 

@@ -20,7 +20,7 @@ std::string hiddenSibling(const std::string& path, const std::string& tag) {
 
 const std::string& checkedRawlogPath(const std::string& path) {
   const fs::path p(path);
-  if (p.extension() != ".rawlog") throw InputError(path, "output name must end in .rawlog");
+  if (!isRawlogName(path)) throw InputError(path, "output name must end in .rawlog");
   if (isDirectory(path)) throw InputError(path, "is a folder, expected a .rawlog file name");
   const fs::path parent = p.parent_path().empty() ? fs::path(".") : p.parent_path();
   if (!isDirectory(parent.string()))
@@ -66,6 +66,7 @@ void checkReplaceableSiblings(const std::string& rawlog, const std::string& imag
 
 StagedRawlogOutput::StagedRawlogOutput(const std::string& final_rawlog)
     : rawlog_(checkedRawlogPath(final_rawlog)),
+      lock_(final_rawlog),
       groundtruth_(rawlogGroundtruthPath(final_rawlog)),
       images_(rawlogImagesDir(final_rawlog)),
       tmp_images_(hiddenSibling(images_, "tmp")) {

@@ -4,16 +4,20 @@
 // renamed into place by commit(); if the conversion fails or is interrupted
 // before that, the temporaries are removed and any previous output is left
 // untouched, so a half-written rawlog or images folder never looks valid.
+// The rawlog is locked while it is staged (core/output_lock.h): a second
+// convert into it is refused instead of replacing the first one's output.
 #include <string>
 
 #include "core/atomic_file.h"
+#include "core/output_lock.h"
 
 namespace dynslam {
 
 class StagedRawlogOutput {
  public:
   /// Throws InputError(final_rawlog) if the path does not end in ".rawlog",
-  /// is a folder, or its folder does not exist; InputError naming the
+  /// is a folder, or its folder does not exist, or another process is
+  /// writing it (holds its OutputLock); InputError naming the
   /// sibling when OUT_Images/ or OUT_groundtruth.txt holds anything but an
   /// earlier conversion's output (they would be replaced: the user's files
   /// are never deleted); creates the temporary images folder.
@@ -36,6 +40,7 @@ class StagedRawlogOutput {
 
  private:
   AtomicPath rawlog_;
+  OutputLock lock_;
   AtomicPath groundtruth_;
   std::string images_;
   std::string tmp_images_;

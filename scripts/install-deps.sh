@@ -14,6 +14,7 @@ PACKAGES=(
   liboctomap-dev octomap-tools     # OctoMap export (.bt); convert_octree/bt2vrml check the files
   libosmesa6-dev                   # off-screen rendering without X or GPU
   libceres-dev                     # bundle adjustment
+  libyaml-dev                      # YAML structure check before MRPT's parser (lib/core/yaml_structure.h)
   libpng-dev libjpeg-dev           # PNG / JPEG frames decoded with their errors caught (rawlog/image_decoder.h)
   libgtest-dev                     # unit tests
   clang libclang-rt-14-dev         # libFuzzer + AddressSanitizer: the fuzzing smoke test (tests/faults/fuzz)

@@ -6,7 +6,9 @@
 
 #include "cli/bag_topic_args.h"
 #include "cli/commands.h"
+#include "core/errors.h"
 #include "core/interrupt.h"
+#include "rawlog/rawlog_layout.h"
 #include "rawlog/tum_to_rawlog.h"
 
 namespace dynslam::cli {
@@ -47,6 +49,10 @@ int convertMain(int argc, char** argv) {
     std::fprintf(stderr, "%s: error: --max-frames must be at least 1\n", argv[0]);
     return kUsage;
   }
+  // A bad argument, refused before the input is read.
+  if (!isRawlogName(out.getValue()))
+    throw UsageError("OUT: the output is an MRPT rawlog, its name must end in .rawlog, got '" +
+                     out.getValue() + "'");
 
   ConvertOptions options;
   options.camera_config = config.getValue();

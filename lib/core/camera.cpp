@@ -116,7 +116,6 @@ PinholeCamera loadCameraYaml(const std::string& path) {
   requireRegularFile(path, "camera config");
   const mrpt::containers::yaml y = loadYamlFile(path);
   if (!y.isMap() || !y.has("camera")) throw InputError(path, "missing 'camera:' section");
-  if (!y["camera"].isMap()) throw InputError(path, "'camera:' must be a map of key: value");
   ConfigSection c(y["camera"], path, "camera");
   for (const char* key : {"width", "height", "fx", "fy", "cx", "cy", "depth_scale"})
     if (!c.has(key)) throw InputError(path, std::string("missing camera.") + key);

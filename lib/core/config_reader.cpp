@@ -12,6 +12,7 @@
 #include "core/mrpt_messages.h"
 #include "core/stderr_capture.h"
 #include "core/yaml_keys.h"
+#include "core/yaml_structure.h"
 
 namespace dynslam {
 
@@ -36,9 +37,10 @@ std::string scalarText(const mrpt::containers::yaml& node) {
 ConfigSection::ConfigSection(const mrpt::containers::yaml& node, std::string file,
                              std::string section)
     : node_(node), file_(std::move(file)), section_(std::move(section)) {
-  if (!node_.isNullNode() && !node_.isMap())
-    throw InputError(file_,
-                     (section_.empty() ? "the file" : section_) + ": expected a map of key: value");
+  if (!node_.isNullNode() && !node_.isMap()) {
+    if (section_.empty()) throw InputError(file_, "the file: expected a map of key: value");
+    failAt(section_, section_ + ": expected a map of key: value");
+  }
 }
 
 bool ConfigSection::has(const std::string& key) const {
@@ -54,7 +56,7 @@ ConfigSection& ConfigSection::readList(const std::string& key, std::vector<std::
     for (const auto& v : node_[key].asSequence()) out.push_back(v.as<std::string>());
     value = std::move(out);
   } catch (const std::exception&) {
-    throw InputError(file_, where + ": expected a list of strings");
+    failAt(where, where + ": expected a list of strings");
   }
   return *this;
 }
@@ -75,8 +77,8 @@ void ConfigSection::failAt(const std::string& dotted_key, const std::string& mes
   failAtKey(file_, dotted_key, message);
 }
 
-void ConfigSection::failValue(const std::string& where) const {
-  failAt(where, where + ": wrong type or value");
+void ConfigSection::failValue(const std::string& where, const char* expected) const {
+  failAt(where, where + " " + expected);
 }
 
 void ConfigSection::rejectUnknownKeys() const {
@@ -124,16 +126,13 @@ bool isEmptyLine(const std::string& line) {
   return b == std::string::npos || line[b] == '#';
 }
 
-/// What MRPT's YAML reader cannot take, dealt with before it reads the text
-/// (line numbers unchanged). A key with nothing after it and nothing
+/// What MRPT's YAML reader cannot take in the text, dealt with before it
+/// reads it (line numbers unchanged; what it cannot take in the structure is
+/// core/yaml_structure.h's). A key with nothing after it and nothing
 /// indented under it (a section whose keys are all commented out) is null in
 /// YAML, but MRPT rejects it as an "unexpected empty scalar": it gets an
 /// explicit null, "~". Errors naming the file (and line): NUL bytes (a binary
-/// file), a second document (MRPT reads the first only), a tab in the
-/// indentation, anchors and aliases (MRPT asserts), and collections nested
-/// deeper than any config needs: flow ones ('[' x 30000 overflows its
-/// recursion) and compact block sequences on one line ("- - - ... 1", which
-/// the indentation does not show, crashed it the same way).
+/// file), bytes that are not UTF-8 and a tab in the indentation.
 std::string prepareYamlText(const std::string& path, const std::string& text) {
   std::vector<std::string> lines;
   for (std::size_t b = 0; b <= text.size();) {
@@ -151,58 +150,11 @@ std::string prepareYamlText(const std::string& path, const std::string& text) {
   if (const std::size_t bad = firstInvalidUtf8(text); bad != std::string::npos)
     throw InputError(path, 1 + std::size_t(std::count(text.begin(), text.begin() + bad, '\n')),
                      "not UTF-8 text (byte " + std::to_string(bad + 1) + ")");
-  constexpr int kMaxNesting = 64;
-  int depth = 0;
-  bool content = false;
   for (std::size_t i = 0; i < lines.size(); ++i) {
     const std::string& line = lines[i];
-    // MRPT reads the first document only: the rest was silently ignored.
-    if (line.rfind("---", 0) == 0 && (line.size() == 3 || line[3] == ' ' || line[3] == '\r')) {
-      if (content)
-        throw InputError(path, i + 1, "a second YAML document: a config file is one document");
-      continue;
-    }
-    content = content || !isEmptyLine(line);
     const auto text_begin = line.find_first_not_of(" \t");
     if (line.find('\t') < text_begin && text_begin != std::string::npos)
       throw InputError(path, i + 1, "a tab in the indentation (YAML indents with spaces)");
-    // Compact nested block sequences: "- " after the indentation or after
-    // another "- " opens one more level.
-    int compact = 0;
-    for (std::size_t at = text_begin == std::string::npos ? line.size() : text_begin;
-         at < line.size() && line[at] == '-' &&
-         (at + 1 == line.size() || line[at + 1] == ' ' || line[at + 1] == '\r');
-         at = line.find_first_not_of(' ', at + 1)) {
-      if (++compact > kMaxNesting)
-        throw InputError(path, i + 1,
-                         "block sequences nested more than " + std::to_string(kMaxNesting) +
-                             " levels deep on one line (\"- - - ...\")");
-      if (at + 1 >= line.size()) break;
-    }
-    char quote = 0;
-    char before = ' ';
-    for (char c : line) {
-      const bool starts_token = before == ' ' || before == '[' || before == '{' || before == ',';
-      before = c;
-      if (quote) {
-        if (c == quote) quote = 0;
-      } else if (c == '"' || c == '\'') {
-        quote = c;
-      } else if (c == '#') {
-        break;
-      } else if ((c == '&' || c == '*') && starts_token) {
-        throw InputError(path, i + 1,
-                         "YAML anchors and aliases (& and *) are not supported: write the values "
-                         "out");
-      } else if (c == '[' || c == '{') {
-        if (++depth > kMaxNesting)
-          throw InputError(
-              path, i + 1,
-              "lists or maps nested more than " + std::to_string(kMaxNesting) + " levels deep");
-      } else if (c == ']' || c == '}') {
-        --depth;
-      }
-    }
   }
   std::string out;
   for (std::size_t i = 0; i < lines.size(); ++i) {
@@ -238,6 +190,7 @@ mrpt::containers::yaml loadYamlFile(const std::string& path) {
           "duplicate key '" + d.key + "' (first on line " + std::to_string(d.first_line) + ")");
   }
   text = prepareYamlText(path, text);
+  checkYamlStructure(path, text);
   mrpt::containers::yaml y;
   std::string diagnostics;
   try {

@@ -62,14 +62,23 @@ class ConfigSection {
         value = node_[key].as<T>();
       }
     } catch (const std::exception&) {
-      failValue(where);
+      failValue(where, expectedValue<T>());
     }
     return *this;
   }
   /// A list of strings ("[a, b]" or a YAML sequence).
   ConfigSection& readList(const std::string& key, std::vector<std::string>& value);
-  /// Throws InputError(file[:line], "where: wrong type or value").
-  [[noreturn]] void failValue(const std::string& where) const;
+  /// What a value of type T must be, for the message when it is not (a
+  /// list or map where one value belongs included).
+  template <typename T>
+  static const char* expectedValue() {
+    if constexpr (std::is_same_v<T, bool>) return "must be true or false";
+    if constexpr (std::is_integral_v<T>) return "must be a whole number";
+    if constexpr (std::is_floating_point_v<T>) return "must be a number";
+    return "must be a single value (not a list or map)";
+  }
+  /// Throws InputError(file[:line], "where EXPECTED").
+  [[noreturn]] void failValue(const std::string& where, const char* expected) const;
   /// Throws InputError(file[:line of dotted_key], message).
   [[noreturn]] void failAt(const std::string& dotted_key, const std::string& message) const;
   /// Sub-section (missing = empty).
@@ -96,9 +105,11 @@ std::string optionKeyList(ForEach&& for_each) {
   return keys;
 }
 
-/// Loads a YAML file; throws a one-line InputError(path[:line]) if it is
-/// missing, not valid YAML, repeats a key within a mapping, or holds
-/// something other than a mapping (an empty file is an empty mapping).
+/// Loads a YAML file, the one way dynslam reads YAML; throws a one-line
+/// InputError(path[:line]) if it is missing, not valid YAML, repeats a key
+/// within a mapping, nests lists or maps deeper than kMaxYamlNesting (see
+/// core/yaml_structure.h), or holds something other than a mapping (an empty
+/// file is an empty mapping).
 mrpt::containers::yaml loadYamlFile(const std::string& path);
 
 }  // namespace dynslam

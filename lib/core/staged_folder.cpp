@@ -1,13 +1,10 @@
 #include "core/staged_folder.h"
 
-#include <fcntl.h>
 #include <signal.h>
-#include <sys/file.h>
 #include <unistd.h>
 
 #include <cerrno>
 #include <cstdlib>
-#include <cstring>
 #include <filesystem>
 #include <string>
 #include <system_error>
@@ -43,35 +40,6 @@ void removeStaleStaging(const fs::path& final_dir) {
     std::error_code rm;
     fs::remove_all(e.path(), rm);
   }
-}
-
-// ".NAME.lock" beside the folder NAME.
-fs::path lockPath(const fs::path& final_dir) {
-  return final_dir.parent_path() / ("." + final_dir.filename().string() + ".lock");
-}
-
-// Takes the lock file's lock without waiting; returns its descriptor. The
-// file holds the owner's pid, for the message another process gets.
-// Errors name `folder`, the output folder as given.
-int lockFolder(const std::string& path, const std::string& folder) {
-  const int fd = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
-  if (fd < 0)
-    throw InputError(folder, "cannot create its lock file " + path + ": " + std::strerror(errno));
-  if (::flock(fd, LOCK_EX | LOCK_NB) != 0) {
-    char buf[32] = {};
-    const ssize_t n = ::pread(fd, buf, sizeof buf - 1, 0);
-    ::close(fd);
-    const std::string owner = n > 0 ? " (pid " + std::string(buf, std::size_t(n)) + ")" : "";
-    throw InputError(folder, "another dynslam process" + owner +
-                                 " is writing this folder; wait for it to finish or choose "
-                                 "another folder");
-  }
-  // The pid only serves the other process's message: a failed write costs
-  // nothing else.
-  const std::string pid = std::to_string(::getpid());
-  const bool noted = ::ftruncate(fd, 0) == 0 && ::pwrite(fd, pid.data(), pid.size(), 0) > 0;
-  static_cast<void>(noted);
-  return fd;
 }
 
 }  // namespace
@@ -125,29 +93,18 @@ StagedFolder::StagedFolder(std::string final_dir, const std::vector<std::string>
   const fs::path parent = f.parent_path().empty() ? fs::path(".") : f.parent_path();
   fs::create_directories(parent, ec);
   if (ec || !fs::is_directory(parent)) throw InputError(parent.string(), "cannot create folder");
-  lock_path_ = lockPath(parent / f.filename()).string();
-  lock_fd_ = lockFolder(lock_path_, final_);
+  lock_ = std::make_unique<OutputLock>(final_);
   const fs::path s = stagingPath(f, long(::getpid()));
-  try {
-    removeStaleStaging(f);
-    fs::remove_all(s, ec);
-    if (!fs::create_directory(s, ec))
-      throw InputError(s.string(), "cannot create folder: " + ec.message());
-  } catch (...) {
-    fs::remove(lock_path_, ec);
-    ::close(lock_fd_);
-    throw;
-  }
+  removeStaleStaging(f);
+  fs::remove_all(s, ec);
+  if (!fs::create_directory(s, ec))
+    throw InputError(s.string(), "cannot create folder: " + ec.message());
   staging_ = s.string();
 }
 
 StagedFolder::~StagedFolder() {
   std::error_code ec;
   if (!committed_ && !staging_.empty()) fs::remove_all(staging_, ec);
-  if (lock_fd_ >= 0) {
-    fs::remove(lock_path_, ec);  // before the release: a waiting process makes a new one
-    ::close(lock_fd_);
-  }
 }
 
 void StagedFolder::commit() {

@@ -6,10 +6,12 @@
 // fuse silently), and an earlier run in the folder is replaced, not mixed.
 // Two commands writing the same folder at once would each report success
 // while the later replaced the earlier: the folder is locked while it is
-// staged (an flock on ".NAME.lock" beside it, which the kernel releases
-// when the process ends, so a lock file left by a crash is stale, not held).
+// staged (core/output_lock.h).
+#include <memory>
 #include <string>
 #include <vector>
+
+#include "core/output_lock.h"
 
 namespace dynslam {
 
@@ -43,8 +45,7 @@ class StagedFolder {
  private:
   std::string final_;
   std::string staging_;
-  std::string lock_path_;
-  int lock_fd_ = -1;
+  std::unique_ptr<OutputLock> lock_;
   bool committed_ = false;
 };
 

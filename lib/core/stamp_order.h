@@ -7,6 +7,7 @@
 // restarted driver or damage, never new information.
 #include <cmath>
 #include <cstddef>
+#include <string>
 
 namespace dynslam {
 
@@ -25,6 +26,9 @@ class StampOrderGate {
   }
   /// Frames refused so far.
   std::size_t refused() const { return refused_; }
+  /// The one warning line (core/log.h, level warn) giving the count of
+  /// frames `source` lost to the rule; nothing when none were refused.
+  void warnIfRefused(const std::string& source) const;
 
  private:
   double last_ = 0;

@@ -3,6 +3,7 @@
 #include <sstream>
 
 #include "core/config_reader.h"
+#include "core/yaml_writer.h"
 
 namespace dynslam {
 
@@ -21,9 +22,10 @@ std::string ValueRange::text() const {
 void requireInRange(const std::string& file, const std::string& dotted_key, double value,
                     const ValueRange& range) {
   if (range.contains(value)) return;
-  std::ostringstream s;
-  s << dotted_key << ": " << value << " is outside its range " << range.text();
-  failAtKey(file, dotted_key, s.str());
+  // Every digit the value needs: six significant ones showed 1000.001 as
+  // "1000 is outside its range (0, 1000]".
+  failAtKey(file, dotted_key,
+            dotted_key + ": " + exactNumberText(value) + " is outside its range " + range.text());
 }
 
 }  // namespace dynslam

@@ -29,7 +29,8 @@ inline ValueRange openRange(double low, double high) { return {low, high, true, 
 /// Keys of one section (or file) and their ranges.
 using KeyRanges = std::vector<std::pair<std::string, ValueRange>>;
 
-/// Throws InputError(FILE:LINE, "KEY: VALUE outside its range RANGE") with the
+/// Throws InputError(FILE:LINE, "KEY: VALUE outside its range RANGE"), VALUE
+/// in all its digits (exactNumberText, core/yaml_writer.h), with the
 /// line that sets `dotted_key` in `file` (no line when a default is at fault
 /// or `file` is no file) unless `range` contains `value`.
 void requireInRange(const std::string& file, const std::string& dotted_key, double value,

@@ -9,6 +9,7 @@
 #include "core/errors.h"
 #include "core/stderr_capture.h"
 #include "core/value_range.h"
+#include "core/yaml_writer.h"
 #include "occupancy/occupancy_config.h"
 #include "occupancy/octree_cells.h"
 
@@ -73,11 +74,11 @@ std::unique_ptr<octomap::OcTree> readOctoMapFile(const std::string& path) {
   }
   const ValueRange resolutions = occupancyResolutionRange();
   if (!resolutions.contains(tree->getResolution())) {
-    std::ostringstream msg;
-    msg << "res " << tree->getResolution() << " m is outside the range " << resolutions.text()
-        << " of occupancy_map.resolution";
-    if (const std::size_t line = headerLine(path, "res")) throw InputError(path, line, msg.str());
-    throw InputError(path, msg.str());
+    const std::string msg = "res " + exactNumberText(tree->getResolution()) +
+                            " m is outside the range " + resolutions.text() +
+                            " of occupancy_map.resolution";
+    if (const std::size_t line = headerLine(path, "res")) throw InputError(path, line, msg);
+    throw InputError(path, msg);
   }
   return tree;
 }

@@ -251,3 +251,24 @@ TEST(ConfigRanges, TheIssuesAbsurdValuesAreRefused) {
                        d / "c.yaml:" + std::to_string(line) + ": ");
   }
 }
+
+// Issue 65: the value was printed with six significant digits, so a value
+// just outside a bound showed as the bound itself ("1000 is outside
+// (0, 1000]"). Known data: the shipped ranges of system.bf and
+// camera.depth_scale, and values a hair past them.
+TEST(ConfigRanges, ARefusedValueIsShownOutsideTheRange) {
+  TempDir d;
+  writeText(d / "c.yaml", "system:\n  bf: 1000.001\n");
+  const SplitCommandResult r = runDynslamSplit({"config", "--config", d / "c.yaml"});
+  expectHandledFault(r, 1, d / "c.yaml:2: system.bf: 1000.001 is outside its range (0, 1000]");
+  writeText(d / "c.yaml", "system:\n  bf: 1000.0000000001\n");
+  expectHandledFault(runDynslamSplit({"config", "--config", d / "c.yaml"}), 1,
+                     d / "c.yaml:2: system.bf: 1000.0000000001 is outside its range (0, 1000]");
+}
+TEST_F(CameraRanges, ARefusedValueIsShownOutsideTheRange) {
+  std::string text = kCamera;
+  text.replace(text.find("depth_scale: 5000.0"), 19, "depth_scale: 99.9999999");
+  expectHandledFault(runWithCamera(text), 1,
+                     dir_ / "cam.yaml:8: camera.depth_scale: 99.9999999 is outside its range "
+                            "[100, 100000]");
+}

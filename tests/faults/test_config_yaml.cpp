@@ -119,3 +119,90 @@ TEST_F(BadYaml, ValidCameraRuns) {
       {"run", tum_.dir, "-o", dir_ / "out", "--mode", "off", "--camera", dir_ / "cam.yaml"});
   EXPECT_EQ(r.exit_code, 0) << r.err;
 }
+
+namespace {
+/// `levels` levels of `opener` ("- ", "? ", "{a: ", "[") written `per_line`
+/// to a line, each line indented past the last one's openers, then `leaf`:
+/// nesting spread over many lines, which no single line shows.
+std::string nestedOverLines(const std::string& opener, int levels, int per_line,
+                            const std::string& leaf) {
+  std::string text;
+  std::size_t indent = 0;
+  for (int done = 0; done < levels; done += per_line) {
+    text += std::string(indent, ' ');
+    for (int k = 0; k < per_line; ++k) text += opener;
+    text += '\n';
+    indent += opener.size() * std::size_t(per_line);
+  }
+  return text + std::string(indent, ' ') + leaf + "\n";
+}
+}  // namespace
+
+// Issue 65: nesting spread over many lines (60 compact "- " a line over 200
+// lines, 12,000 levels, 2.4 MB) passed the one-line check and overflowed
+// MRPT's recursion in `config`, `run --camera` (and the node's _camera:=,
+// the same loader). Every way YAML nests is refused at the line where the
+// 65th level opens (line 2: the first line holds 60).
+TEST_F(BadYaml, DeepNestingSpreadOverManyLines) {
+  const std::string seqs = nestedOverLines("- ", 12000, 60, "1");
+  EXPECT_GT(seqs.size(), 2'000'000u);
+  expectRejected(seqs, false, ":2: lists or maps nested more than 64 levels deep");
+  expectRejected("camera:\n" + seqs, true, ":3: lists or maps nested more than 64 levels deep");
+  // Mappings: "? " complex keys, compact, and block mappings a key a line.
+  expectRejected(nestedOverLines("? ", 12000, 60, "a"), false, ":2:");
+  std::string maps;
+  for (int i = 0; i < 100; ++i) maps += std::string(std::size_t(i), ' ') + "a:\n";
+  expectRejected(maps + std::string(100, ' ') + "b: 1\n", false, ":65:");
+  // Flow collections, a few to a line, and block sequences of maps.
+  expectRejected("orb: " + nestedOverLines("[", 300, 3, "1"), false, ":22:");
+  expectRejected("orb: " + nestedOverLines("{a: ", 300, 3, "1"), true, ":22:");
+  std::string seq_maps;
+  for (int i = 0; i < 100; ++i) seq_maps += std::string(std::size_t(2 * i), ' ') + "- a:\n";
+  expectRejected(seq_maps, false, ":33:");
+}
+
+// A ']' that closes nothing (in a quoted or plain scalar) lowered the
+// pre-check's bracket count, so more '[' than the bound passed it.
+TEST_F(BadYaml, BracketsInsideScalarsDoNotHideNesting) {
+  const std::string deep = std::string(100, '[') + std::string(100, ']') + "\n";
+  expectRejected("a: \"x\n" + std::string(50, ']') + "\"\nb: " + deep, false, ":3:");
+  expectRejected("a: x" + std::string(50, ']') + "\nb: " + deep, false, ":2:");
+}
+
+// Every file read as YAML goes through the one loader: a run folder's
+// run_info.yaml read by export.
+TEST(DeepYaml, RunInfoReadByExport) {
+  TempDir d;
+  fs::create_directories(d / "run");
+  writeText(d / "run/keyframes.txt", "");
+  writeText(d / "run/run_info.yaml", nestedOverLines("- ", 12000, 60, "1"));
+  const SplitCommandResult r = runDynslamSplit({"export", d / "run", "-o", d / "map.ply"});
+  expectHandledFault(r, 1, d / "run/run_info.yaml:2:");
+  EXPECT_FALSE(fs::exists(d / "map.ply"));
+}
+
+// Issue 65: a list or map where one value belongs (and a value where a map
+// or list belongs) gave MRPT's assertion text with no line.
+TEST_F(BadYaml, ValueOfTheWrongShapeNamesItsLineAndWhatItMustBe) {
+  const auto replaced = [](const std::string& from, const std::string& to) {
+    std::string cam = kCamera;
+    cam.replace(cam.find(from), from.size(), to);
+    return cam;
+  };
+  expectRejected(replaced("fx: 517.3", "fx: - 1"), true, ":4: not valid YAML");
+  expectRejected(replaced("fx: 517.3", "fx:\n    - 1"), true, ":4: camera.fx must be a number");
+  expectRejected(replaced("fx: 517.3", "fx: {a: 1}"), true, ":4: camera.fx must be a number");
+  expectRejected(replaced("width: 640", "width: [640]"), true,
+                 ":2: camera.width must be a whole number");
+  expectRejected(std::string(kCamera) + "  name: [a, b]\n", true,
+                 ":9: camera.name must be a single value");
+  expectRejected("camera: 5\n", true, ":1: camera: expected a map");
+  expectRejected("camera:\n  - 640\n", true, ":1: camera: expected a map");
+  expectRejected("orb:\n  n_features: [1000]\n", false, ":2: orb.n_features must be a whole number");
+  expectRejected("system:\n  final_global_ba: {x: 1}\n", false,
+                 ":2: system.final_global_ba must be true or false");
+  expectRejected("orb:\n  - 1\n", false, ":1: orb: expected a map");
+  expectRejected("dynamic:\n  detector: 5\n", false, ":2: dynamic.detector: expected a map");
+  expectRejected("dynamic:\n  detector:\n    dynamic_classes: {a: 1}\n", false,
+                 ":3: dynamic.detector.dynamic_classes: expected a list");
+}

@@ -138,3 +138,13 @@ TEST(ExitCodes, BenchIntoAFolderOfOtherFilesIsRefused) {
     EXPECT_EQ(again.exit_code, 0) << again.err;
   }
 }
+
+// Issue 65: an output name with the wrong extension is a bad argument (it
+// was exit 1, as a bad file), refused before the input is read.
+TEST(ExitCodes, ConvertOutputNotARawlog) {
+  TempDir d;
+  const MiniTum tum = makeMiniTum(d.path(), 2);
+  expectUsageError({"convert", tum.dir, d / "x.txt"}, d / "x.txt");
+  expectUsageError({"convert", d / "missing", d / "x.txt"}, d / "x.txt");
+  EXPECT_EQ(entriesIn(d.path()), std::vector<std::string>{"rgbd_dataset_freiburg1_fault"});
+}

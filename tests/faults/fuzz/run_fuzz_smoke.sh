@@ -5,7 +5,7 @@
 # `build` configures and builds this folder's project with clang++
 # (libFuzzer + AddressSanitizer) into BUILD_DIR. `run` writes small valid
 # inputs as the seed corpus of TARGET (ply_header, yaml_precheck, tum_list,
-# bag_messages),
+# camera_yaml, bag_messages),
 # fuzzes it for SECONDS and fails on any finding, printing the input that
 # caused it (as hex) so it can be made a test.
 set -euo pipefail
@@ -41,6 +41,11 @@ case "$target" in
     printf 'system:\n  bf: 40.0 # px*m\norb:\n  n_features: 1000\n  scale_factor: 1.2\ndynamic:\n  detector:\n    dynamic_classes: [person, "dog"]\n' >"$seeds/config.yaml"
     printf 'camera:\n  name: tum_fr1\n  width: 640\n  height: 480\n  fx: 517.3\n  fy: 516.5\n  cx: 318.6\n  cy: 255.3\n  k1: 0.26\n  depth_scale: 5000.0\n' >"$seeds/camera.yaml"
     printf -- '- - a\n  - b\n- {x: 1, y: [2, 3]}\nkey: ~\nother:\n  # all commented\n' >"$seeds/shapes.yaml"
+    ;;
+  camera_yaml)
+    printf 'camera:\n  name: tum_fr1\n  width: 640\n  height: 480\n  fx: 517.3\n  fy: 516.5\n  cx: 318.6\n  cy: 255.3\n  k1: 0.2624\n  k2: -0.9531\n  p1: -0.0054\n  p2: 0.0026\n  k3: 1.1633\n  depth_scale: 5000.0\n' >"$seeds/tum_fr1.yaml"
+    printf '# rendered\ncamera:\n  width: 320\n  height: 240\n  fx: 300\n  fy: 300\n  cx: 159.5\n  cy: 119.5\n  depth_scale: 1000\n' >"$seeds/small.yaml"
+    printf 'camera: {width: 64, height: 48, fx: 50, fy: 50, cx: 31.5, cy: 23.5, depth_scale: 5000}\n' >"$seeds/flow.yaml"
     ;;
   tum_list)
     printf '# color images\n# timestamp filename\n1305031102.175304 rgb/1305031102.175304.png\n1305031102.211214 rgb/1305031102.211214.png\n1305031102.243211 rgb/1305031102.243211.png\n' >"$seeds/rgb.txt"
