@@ -358,11 +358,7 @@ struct BagSource::Impl {
       if (gate.admit(rgb_t[p.first])) kept.push_back(p);
     pairs = std::move(kept);
     frames_stamp_not_advancing = gate.refused();
-    if (frames_stamp_not_advancing > 0)
-      logf(LogLevel::kWarn, "input",
-           "%s: %zu frames dropped: their %s stamp does not advance past the frame before "
-           "(duplicated, zero or backwards stamps)",
-           path.c_str(), frames_stamp_not_advancing, topics.rgb.c_str());
+    gate.warnIfRefused(path + " (topic " + topics.rgb + ")");
   }
 
   void readGroundtruth() {
