@@ -7,7 +7,7 @@
 # ament machinery (pluginlib), and its pkg-config file names a pluginlib.pc
 # that does not exist, so the pieces are found directly. Sets DYNSLAM_ROS_FOUND
 # and the INTERFACE targets dynslam_ros_bag (rosbag + cv_bridge) and
-# dynslam_ros_node (roscpp + message_filters on top).
+# dynslam_ros_node (roscpp + message_filters + tf2_ros on top).
 option(DYNSLAM_WITH_ROS "Build ROS bag input and the ROS node when ROS 1 is installed" ON)
 set(DYNSLAM_ROS_FOUND OFF)
 if(DYNSLAM_WITH_ROS)
@@ -20,14 +20,15 @@ if(DYNSLAM_WITH_ROS)
     PATH_SUFFIXES ament_index_cpp)
   find_path(DYNSLAM_SENSOR_MSGS_INCLUDE_DIR sensor_msgs/Image.h)
   find_path(DYNSLAM_TF2_MSGS_INCLUDE_DIR tf2_msgs/TFMessage.h)
+  find_path(DYNSLAM_TF2_ROS_INCLUDE_DIR tf2_ros/buffer.h)
   find_path(DYNSLAM_NAV_MSGS_INCLUDE_DIR nav_msgs/Path.h)
   find_path(DYNSLAM_CV_BRIDGE_INCLUDE_DIR cv_bridge/cv_bridge.h)
   set(_bag_libs rosbag_storage roslz4 roscpp_serialization rostime cpp_common console_bridge
     cv_bridge)
-  set(_node_libs roscpp message_filters xmlrpcpp rosconsole)
+  set(_node_libs roscpp message_filters xmlrpcpp rosconsole tf2_ros tf2)
   set(_missing "")
   foreach(v ROSBAG PLUGINLIB CLASS_LOADER RCPPUTILS RCUTILS AMENT_INDEX SENSOR_MSGS TF2_MSGS
-      NAV_MSGS CV_BRIDGE)
+      TF2_ROS NAV_MSGS CV_BRIDGE)
     if(NOT DYNSLAM_${v}_INCLUDE_DIR)
       list(APPEND _missing "${v} headers")
     endif()

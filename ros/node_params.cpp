@@ -80,9 +80,12 @@ std::string checkedTopic(const ParamReader& r, const std::string& name,
   return topic;
 }
 
+/// A TF frame name; "" only where `may_be_empty` (the parameter then has a
+/// meaning of its own: the images' frame, no odometry).
 std::string checkedFrame(const ParamReader& r, const std::string& name,
-                         const std::string& fallback) {
+                         const std::string& fallback, bool may_be_empty = false) {
   const std::string frame = r.text(name, fallback);
+  if (frame.empty() && may_be_empty) return frame;
   if (frame.empty() || frame.find_first_of(" \t\n\r/") == 0 ||
       frame.find_first_of(" \t\n\r") != std::string::npos)
     throw UsageError("~" + name + " '" + frame +
@@ -95,8 +98,8 @@ std::string checkedFrame(const ParamReader& r, const std::string& name,
 const std::vector<std::string>& nodeParamNames() {
   static const std::vector<std::string> names{
       "rgb_topic",  "rgb_transport", "depth_topic", "camera_info_topic", "config",
-      "mode",       "camera",        "map_frame",   "camera_frame",      "output_dir",
-      "save_map",   "sync_queue",    "frame_queue"};
+      "mode",       "camera",        "map_frame",   "odom_frame",        "camera_frame",
+      "publish_tf", "output_dir",    "save_map",    "sync_queue",        "frame_queue"};
   return names;
 }
 
@@ -126,9 +129,15 @@ NodeParams readNodeParams(const std::map<std::string, Value>& given) {
   if (!parsed) throw UsageError("~mode " + mode + ": not one of detect+flow, detect, flow, off");
   p.mode = *parsed;
   p.map_frame = checkedFrame(r, "map_frame", p.map_frame);
-  p.camera_frame = checkedFrame(r, "camera_frame", p.camera_frame);
-  if (p.map_frame == p.camera_frame)
-    throw UsageError("~map_frame and ~camera_frame are both " + p.map_frame);
+  p.odom_frame = checkedFrame(r, "odom_frame", p.odom_frame, true);
+  p.camera_frame = checkedFrame(r, "camera_frame", p.camera_frame, true);
+  for (const auto& [name, frame] : {std::pair<const char*, const std::string&>{"odom_frame", p.odom_frame},
+                                    {"camera_frame", p.camera_frame}})
+    if (frame == p.map_frame)
+      throw UsageError(std::string("~map_frame and ~") + name + " are both " + p.map_frame);
+  if (!p.odom_frame.empty() && p.odom_frame == p.camera_frame)
+    throw UsageError("~odom_frame and ~camera_frame are both " + p.odom_frame);
+  p.publish_tf = r.flag("publish_tf", p.publish_tf);
   p.save_map = r.flag("save_map", p.save_map);
   p.sync_queue = r.count("sync_queue", kDefaultSyncQueue, 1, kMaxNodeQueue);
   p.frame_queue = r.count("frame_queue", kDefaultFrameQueue, 1, kMaxNodeQueue);

@@ -42,7 +42,12 @@ struct NodeParams {
   std::string config;  ///< SLAM config file ("" = configs/dynslam.yaml)
   DynamicMode mode = DynamicMode::kDetectAndFlow;
   std::optional<PinholeCamera> camera_override;  ///< ~camera, loaded
-  std::string map_frame = "map", camera_frame = "camera";
+  std::string map_frame = "map";
+  /// The camera's TF frame: "" = the images' header.frame_id.
+  std::string camera_frame;
+  /// The robot's odometry frame (REP 105): "" = no robot, map -> camera.
+  std::string odom_frame;
+  bool publish_tf = true;
   std::string output_dir;  ///< "" = ~save refuses, nothing written at exit
   bool save_map = true;
   int sync_queue = kDefaultSyncQueue;

@@ -7,7 +7,6 @@
 #include <sensor_msgs/CompressedImage.h>
 #include <sensor_msgs/Image.h>
 #include <std_srvs/Empty.h>
-#include <tf2_msgs/TFMessage.h>
 
 #include <ros/master.h>
 
@@ -32,6 +31,7 @@
 #include "ros/ros_outputs.h"
 #include "ros/sequence_gaps.h"
 #include "ros/slam_session.h"
+#include "ros/tf_output.h"
 
 namespace dynslam {
 
@@ -48,6 +48,8 @@ using FramePairing = message_filters::Synchronizer<PairingPolicy<RgbMsg>>;
 
 /// Queue of each publisher (messages not yet sent to a slow subscriber).
 constexpr int kPublisherQueue = 10;
+/// The camera's TF frame when ~camera_frame is unset and the images have no frame_id.
+constexpr const char* kFallbackCameraFrame = "camera";
 /// Seconds between two looks at the master's topic types (one XML-RPC call).
 constexpr double kTopicTypeCheckS = 2.0;
 
@@ -75,7 +77,8 @@ std::string sizeText(int width, int height) {
 struct SlamNode::Impl {
   NodeParams p;
 
-  ros::Publisher pose_pub, path_pub, cloud_pub, mask_pub, tf_pub;
+  ros::Publisher pose_pub, path_pub, cloud_pub, mask_pub;
+  std::unique_ptr<TfOutput> tf;  // made before the SLAM thread starts
   ros::ServiceServer save_srv;
   ros::Subscriber rgb_sub, depth_sub, info_sub;
   /// One of the two, as ~rgb_transport says.
@@ -234,14 +237,20 @@ struct SlamNode::Impl {
                refusals.countOf(r.reason), r.why.c_str());
   }
 
-  void publish(const RGBDFrame& f, const FrameOutcome& out) {
+  /// The camera's TF frame: ~camera_frame, else the images' frame_id (no
+  /// leading '/', which tf2 refuses), else kFallbackCameraFrame.
+  std::string cameraFrame(const PendingFrame& m) const {
+    if (!p.camera_frame.empty()) return p.camera_frame;
+    std::string id = m.rgbHeader().frame_id;
+    if (!id.empty() && id[0] == '/') id.erase(0, 1);
+    return id.empty() ? kFallbackCameraFrame : id;
+  }
+
+  void publish(const RGBDFrame& f, const FrameOutcome& out, const std::string& camera_frame) {
     if (out.track.has_pose) {
       const auto pose = poseMessage(out.track.pose_wc, f.timestamp, p.map_frame);
       pose_pub.publish(pose);
-      tf2_msgs::TFMessage tf;
-      tf.transforms.push_back(
-          transformMessage(out.track.pose_wc, f.timestamp, p.map_frame, p.camera_frame));
-      tf_pub.publish(tf);
+      tf->publish(out.track.pose_wc, f.timestamp, camera_frame);
       path.header = pose.header;
       path.poses.push_back(pose);
       path_pub.publish(path);
@@ -249,7 +258,7 @@ struct SlamNode::Impl {
     if (out.track.new_keyframe)
       cloud_pub.publish(mapPointCloud(session->slam().map(), f.timestamp, p.map_frame));
     const cv::Mat mask = session->lastMask();
-    if (!mask.empty()) mask_pub.publish(maskMessage(mask, f.timestamp, p.camera_frame));
+    if (!mask.empty()) mask_pub.publish(maskMessage(mask, f.timestamp, camera_frame));
   }
 
   /// Runs SLAM on one frame (starting the session on the first usable one)
@@ -271,7 +280,7 @@ struct SlamNode::Impl {
     }
     session->addDropped(queue->takeDropped());
     const FrameOutcome out = session->process(frame);
-    publish(frame, out);
+    publish(frame, out, cameraFrame(m));
   }
 
   void run() {
@@ -329,6 +338,7 @@ struct SlamNode::Impl {
     session->setRefusedFrames(refusals.counts());
     refusals_lock.unlock();
     session->setLostInTransport(rgb_gaps.lost());
+    if (!p.odom_frame.empty()) session->setOdomUnavailable(tf->odomUnavailable());
     const auto t0 = std::chrono::steady_clock::now();
     try {
       session->save(p.output_dir, p.save_map);
@@ -358,7 +368,7 @@ SlamNode::SlamNode(ros::NodeHandle& nh, ros::NodeHandle& pnh, const NodeParams& 
   d.path_pub = pnh.advertise<nav_msgs::Path>("path", 1, true);
   d.cloud_pub = pnh.advertise<sensor_msgs::PointCloud2>("map_points", 1, true);
   d.mask_pub = pnh.advertise<sensor_msgs::Image>("dynamic_mask", kPublisherQueue);
-  d.tf_pub = nh.advertise<tf2_msgs::TFMessage>("/tf", kPublisherQueue);
+  d.tf = std::make_unique<TfOutput>(d.p.publish_tf, d.p.map_frame, d.p.odom_frame);
   d.save_srv = pnh.advertiseService<std_srvs::Empty::Request, std_srvs::Empty::Response>(
       "save", [this](std_srvs::Empty::Request&, std_srvs::Empty::Response&) {
         std::string why;

@@ -15,8 +15,9 @@
 //   rgb_transport (raw: Image on rgb_topic; compressed: CompressedImage on
 //   rgb_topic/compressed, as image_transport names it)
 //   config (configs/dynslam.yaml), mode (detect+flow), camera (a camera YAML
-//   replacing CameraInfo's intrinsics), map_frame (map), camera_frame
-//   (camera), output_dir (where ~save writes the run folder; also written at
+//   replacing CameraInfo's intrinsics), map_frame (map), odom_frame (unset:
+//   no robot), camera_frame (unset: the images' frame_id), publish_tf (true),
+//   output_dir (where ~save writes the run folder; also written at
 //   shutdown when set and not saved yet), save_map (true), sync_queue (10),
 //   frame_queue (1: frames waiting for SLAM; the oldest is dropped when a
 //   frame comes to a full queue, so 1 tracks the newest frame, as a live
@@ -25,7 +26,8 @@
 // Publishes (private): ~pose (geometry_msgs/PoseStamped), ~path
 //   (nav_msgs/Path), ~map_points (sensor_msgs/PointCloud2, latched, at each
 //   keyframe), ~dynamic_mask (sensor_msgs/Image mono8, modes with a filter),
-//   and the TF map_frame -> camera_frame on /tf.
+//   and on /tf map_frame -> odom_frame or map_frame -> camera frame
+//   (tf_output.h, REP 105).
 // Services: ~save (std_srvs/Empty): ends the session and writes the run
 //   folder (and map.dsm) to output_dir; a save that fails says why and
 //   leaves the session savable.

@@ -139,6 +139,7 @@ void SlamSession::save(const std::string& out_dir, bool save_map) {
   sum.dropped = counts_.dropped;
   sum.lost_in_transport = counts_.lost_in_transport;
   sum.refused_frames = refused_;
+  sum.odom_unavailable = odom_unavailable_;
   sum.tracked = record_->tracked();
   sum.keyframes = slam_->map().keyFrameCount();
   sum.map_points = slam_->map().mapPointCount();

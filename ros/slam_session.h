@@ -10,6 +10,7 @@
 // call it with frames of a TUM folder.
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -54,6 +55,9 @@ class SlamSession {
   /// Sets the count of frames lost before they reached the node (report.json
   /// `lost_in_transport`).
   void setLostInTransport(std::size_t n) { counts_.lost_in_transport = n; }
+  /// Sets the count of tracked frames whose odom -> camera transform was not
+  /// available in time (report.json `odom_unavailable`; only with an odom frame).
+  void setOdomUnavailable(std::size_t n) { odom_unavailable_ = n; }
   /// Sets the frames received but not usable, by reason (report.json
   /// `refused_frames`; they are also counted in `dropped`). The reason
   /// kStampNotAdvancing also gives `input_source.frames_stamp_not_advancing`.
@@ -89,6 +93,7 @@ class SlamSession {
   std::vector<RGBDFrame> keyframe_frames_;  ///< frames that made a keyframe
   SessionCounts counts_;
   std::map<std::string, std::size_t> refused_;
+  std::optional<std::size_t> odom_unavailable_;
   double cpu0_ms_ = 0;
   bool finished_ = false;
   bool saved_ = false;

@@ -25,6 +25,7 @@ PACKAGES=(
   libcv-bridge-dev                       # ROS images <-> cv::Mat
   libsensor-msgs-dev libgeometry-msgs-dev libnav-msgs-dev libtf2-msgs-dev libstd-srvs-dev
   libroscpp-dev libmessage-filters-dev   # dynslam_node: topics, approximate-time sync
+  libtf2-ros-dev                         # dynslam_node: map -> odom from the robot's TF (REP 105)
   ros-core python3-rosbag                # roscpp's master (roscore), rosbag play/record (node test)
   python3-std-srvs                       # `rosservice call /dynslam/save` (std_srvs/Empty)
 )

@@ -80,6 +80,9 @@ struct RunSummary {
   /// Live input only: frames received but not usable, by reason (report.json
   /// `refused_frames`, written with lost_in_transport; part of `dropped`).
   std::map<std::string, std::size_t> refused_frames;
+  /// The node with an odom frame: tracked frames whose odom -> camera
+  /// transform was not available in time (report.json `odom_unavailable`).
+  std::optional<std::size_t> odom_unavailable;
   /// The signal that stopped the run early (0: it ran to the end); the
   /// outputs then hold the frames processed until then.
   int interrupted_by = 0;

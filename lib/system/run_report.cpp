@@ -68,6 +68,7 @@ std::string runReportJson(const RunReportInputs& in) {
     for (const auto& [reason, n] : in.summary.refused_frames) w.value(reason, n);
     w.endObject();
   }
+  if (in.summary.odom_unavailable) w.value("odom_unavailable", *in.summary.odom_unavailable);
   w.value("peak_rss_mb", peakRssMb());
   {
     // Per thread, over the frames given to SLAM (cpu_ms_per_frame is their sum).

@@ -8,13 +8,18 @@
 #include <rosbag/view.h>
 #include <sensor_msgs/Image.h>
 #include <sensor_msgs/PointCloud2.h>
+#include <tf2/buffer_core.h>
+#include <tf2_msgs/TFMessage.h>
 
 #include <mrpt/poses/CPose3DQuat.h>
+#include <mrpt/poses/Lie/SO.h>
 
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <set>
 
 #include "core/trajectory.h"
 #include "eval/trajectory_eval.h"
@@ -38,6 +43,9 @@ constexpr double kPlayRate = 1.0;
 constexpr double kNodeAteFactor = 1.1;
 /// ATEs (m) that count as the same trajectory (issue 64: compressed RGB).
 constexpr double kSameAteM = 0.001;
+/// map -> camera through TF against ~pose (issue 64): 1 mm, 0.1 degree.
+constexpr double kTfToleranceM = 0.001;
+constexpr double kTfToleranceDeg = 0.1;
 /// Subscriber queues of 100 messages, the newest frame only for SLAM: the
 /// node drops what it cannot keep up with, and the transport (almost)
 /// nothing. A message the transport drops before the node's first one
@@ -161,13 +169,18 @@ struct Recorded {
   /// (roscpp numbers a publisher's messages from 0).
   std::size_t poses_published = 0;
   std::size_t clouds = 0, cloud_points = 0, masks = 0, mask_pixels_ok = 0;
+  /// Every transform on /tf and /tf_static (the bag's and the node's).
+  std::vector<geometry_msgs::TransformStamped> tf, tf_static;
 };
 
 Recorded readRecording(const std::string& path) {
   Recorded r;
   rosbag::Bag bag(path, rosbag::bagmode::Read);
   for (const rosbag::MessageInstance& m : rosbag::View(bag)) {
-    if (const auto p = m.instantiate<geometry_msgs::PoseStamped>()) {
+    if (const auto t = m.instantiate<tf2_msgs::TFMessage>()) {
+      auto& into = m.getTopic() == "/tf_static" ? r.tf_static : r.tf;
+      into.insert(into.end(), t->transforms.begin(), t->transforms.end());
+    } else if (const auto p = m.instantiate<geometry_msgs::PoseStamped>()) {
       r.poses_published = std::max<std::size_t>(r.poses_published, p->header.seq + 1u);
       const auto& q = p->pose.orientation;
       r.poses.push_back(
@@ -216,7 +229,8 @@ NodeRun playThroughNode(const TempDir& tmp, const std::string& bag, const std::s
   EXPECT_TRUE(waitForOutput("rosservice list", "/dynslam_node/save", kRosTimeout))
       << readText(tmp / "node.log");
   ChildProcess record("rosbag record -O " + shellQuote(tmp / "rec.bag") +
-                          " /dynslam_node/pose /dynslam_node/map_points /dynslam_node/dynamic_mask",
+                          " /dynslam_node/pose /dynslam_node/map_points /dynslam_node/dynamic_mask"
+                          " /tf /tf_static",
                       tmp / "record.log");
   EXPECT_TRUE(waitForOutput("rostopic info /dynslam_node/pose", "/record", kRosTimeout));
 
@@ -339,6 +353,76 @@ TEST(NodeIntegration, CompressedRgbGivesTheTrajectoryOfTheRawImages) {
   std::printf("ATE node, compressed RGB %.5f m, raw RGB %.5f m\n", compressed_ate, raw_ate);
   EXPECT_EQ(compressed.tracked, raw.tracked);
   EXPECT_NEAR(compressed_ate, raw_ate, kSameAteM);
+}
+
+/// A robot's TF tree above the TUM camera (its images' frame_id):
+/// odom -> base_link -> the optical frame, as a URDF and odometry give it.
+std::vector<StaticTf> robotTree(bool with_odom) {
+  std::vector<StaticTf> tree;
+  if (with_odom) tree.push_back({"odom", "base_link", {0.5, -0.2, 0.0, 0, 0, 0.3826834, 0.9238795}});
+  tree.push_back({"base_link", "openni_rgb_optical_frame",
+                  {0.1, 0.0, 0.4, -0.5, 0.5, -0.5, 0.5}});  // z forward, x right: REP 103 optical
+  return tree;
+}
+
+/// Each child frame in the recorded transforms and the parents it was given.
+std::map<std::string, std::set<std::string>> parentsOf(const Recorded& rec) {
+  std::map<std::string, std::set<std::string>> parents;
+  for (const auto* list : {&rec.tf, &rec.tf_static})
+    for (const auto& t : *list) parents[t.child_frame_id].insert(t.header.frame_id);
+  return parents;
+}
+
+TEST(NodeIntegration, WithAnOdomFrameMapToCameraThroughTfIsThePose) {
+  // REP 105: the node publishes map -> odom so that map -> camera, looked up
+  // through the robot's tree, is its pose; no frame gets a second parent.
+  TumBagSpec spec;
+  spec.static_tf = robotTree(true);
+  const TempDir tmp;
+  const NodeRun r = playThroughNode(tmp, cachedBag("tum32f_robot_tree", spec), "off", kPlayRate,
+                                    std::string(kQueueEveryFrame) + " _odom_frame:=odom");
+  expectEveryFrameAccountedFor(r, kAcceptanceFrames);
+  for (const auto& [child, parents] : parentsOf(r.rec))
+    EXPECT_EQ(parents.size(), 1u) << child << " has " << parents.size() << " parents";
+  EXPECT_EQ(parentsOf(r.rec)["odom"], std::set<std::string>{"map"});
+
+  tf2::BufferCore buffer(ros::Duration(600));
+  for (const auto& t : r.rec.tf_static) buffer.setTransform(t, "bag", true);
+  for (const auto& t : r.rec.tf) buffer.setTransform(t, "node", false);
+  ASSERT_GT(r.rec.poses.size(), 0u);
+  std::size_t checked = 0;
+  for (const StampedPose& p : r.rec.poses) {
+    const auto tf = buffer.lookupTransform("map", "openni_rgb_optical_frame",
+                                           ros::Time().fromSec(p.timestamp));
+    const auto& q = tf.transform.rotation;
+    const auto& x = tf.transform.translation;
+    const mrpt::poses::CPose3D through_tf(mrpt::poses::CPose3DQuat(
+        x.x, x.y, x.z, mrpt::math::CQuaternionDouble(q.w, q.x, q.y, q.z)));
+    const mrpt::poses::CPose3D diff = (-p.pose) + through_tf;
+    EXPECT_LE(diff.translation().norm(), kTfToleranceM) << "at " << p.timestamp;
+    EXPECT_LE(mrpt::RAD2DEG(mrpt::poses::Lie::SO<3>::log(diff.getRotationMatrix()).norm()),
+              kTfToleranceDeg)
+        << "at " << p.timestamp;
+    ++checked;
+  }
+  EXPECT_EQ(checked, static_cast<std::size_t>(r.tracked));
+}
+
+TEST(NodeIntegration, ACameraFrameWithAParentGetsNoSecondOne) {
+  // No odom frame, but the camera already hangs under base_link: the node
+  // says so and leaves /tf alone rather than break the tree.
+  TumBagSpec spec;
+  spec.frames = 30;
+  spec.static_tf = robotTree(false);
+  const TempDir tmp;
+  const NodeRun r = playThroughNode(tmp, cachedBag("tum32f_30_camera_parent", spec), "off",
+                                    kPlayRate, kQueueEveryFrame);
+  EXPECT_GT(r.tracked, 0);
+  for (const auto& [child, parents] : parentsOf(r.rec))
+    EXPECT_EQ(parents.size(), 1u) << child << " has " << parents.size() << " parents";
+  EXPECT_EQ(parentsOf(r.rec).count("openni_rgb_optical_frame"), 1u);
+  EXPECT_EQ(parentsOf(r.rec)["openni_rgb_optical_frame"], std::set<std::string>{"base_link"});
+  EXPECT_NE(r.log.find("already has the parent base_link"), std::string::npos) << r.log;
 }
 
 TEST(NodeIntegration, GapsInTheRgbSequenceNumbersAreCountedAsLostInTransport) {

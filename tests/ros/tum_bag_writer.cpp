@@ -32,10 +32,14 @@ std::vector<uint8_t> fileBytes(const std::string& path) {
 
 /// One /tf message world -> `child` at time t; `txyz_qxyzw` as a TUM
 /// groundtruth line writes it (tx ty tz qx qy qz qw).
-void writeWorldTf(rosbag::Bag& bag, double t, const char* child, const double* txyz_qxyzw) {
+/// parent -> child at time t; `txyz_qxyzw` as a TUM groundtruth line writes
+/// it (tx ty tz qx qy qz qw).
+geometry_msgs::TransformStamped transformStamped(double t, const std::string& parent,
+                                                 const std::string& child,
+                                                 const double* txyz_qxyzw) {
   const double* v = txyz_qxyzw;
   geometry_msgs::TransformStamped ts;
-  ts.header = header(t, "/world");
+  ts.header = header(t, parent);
   ts.child_frame_id = child;
   ts.transform.translation.x = v[0];
   ts.transform.translation.y = v[1];
@@ -44,9 +48,13 @@ void writeWorldTf(rosbag::Bag& bag, double t, const char* child, const double* t
   ts.transform.rotation.y = v[4];
   ts.transform.rotation.z = v[5];
   ts.transform.rotation.w = v[6];
+  return ts;
+}
+
+void writeWorldTf(rosbag::Bag& bag, double t, const char* child, const double* txyz_qxyzw) {
   tf2_msgs::TFMessage tf;
-  tf.transforms.push_back(ts);
-  bag.write("/tf", ts.header.stamp, tf);
+  tf.transforms.push_back(transformStamped(t, "/world", child, txyz_qxyzw));
+  bag.write("/tf", ros::Time().fromSec(t), tf);
 }
 
 /// Frame i's RGB header.seq.
@@ -88,6 +96,21 @@ std::vector<double> writeTumBag(const std::string& path, const TumBagSpec& spec)
   rosbag::Bag bag(path, rosbag::bagmode::Write);
   if (spec.lz4) bag.setCompression(rosbag::compression::LZ4);
   std::vector<double> stamps;
+  if (!spec.static_tf.empty() && n > 0) {
+    tf2_msgs::TFMessage tf;
+    const double t0 = src.timestamp(0) - kGroundtruthMargin;
+    for (const StaticTf& s : spec.static_tf)
+      tf.transforms.push_back(transformStamped(t0, s.parent, s.child, s.xyz_qxyzw));
+    // A connection header of its own (rosbag then stores it as given), as
+    // `rosbag record` writes a latched topic.
+    auto latched = boost::make_shared<ros::M_string>();
+    (*latched)["type"] = ros::message_traits::datatype(tf);
+    (*latched)["md5sum"] = ros::message_traits::md5sum(tf);
+    (*latched)["message_definition"] = ros::message_traits::definition(tf);
+    (*latched)["callerid"] = "/static_tf";
+    (*latched)["latching"] = "1";
+    bag.write("/tf_static", ros::Time().fromSec(t0), tf, latched);
+  }
   for (std::size_t i = 0; i < n; ++i) {
     const double t = src.timestamp(i);
     const ros::Time rt = ros::Time().fromSec(t);

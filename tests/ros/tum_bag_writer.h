@@ -23,6 +23,13 @@ inline constexpr const char* kTumDepthFrame = "/openni_depth_optical_frame";
 inline constexpr double kTumDepthUnitsPerMetre = 5000.0;
 inline constexpr double kRosDepthUnitsPerMetre = 1000.0;
 
+/// A transform a robot's URDF would give (parent -> child: translation x y z,
+/// quaternion x y z w), for /tf_static.
+struct StaticTf {
+  std::string parent, child;
+  double xyz_qxyzw[7] = {0, 0, 0, 0, 0, 0, 1};
+};
+
 struct TumBagSpec {
   std::size_t frames = 150;              ///< first N associated pairs of fr1_rpy
   std::string depth_encoding = "32FC1";  ///< "32FC1" metres, "16UC1" millimetres, or any
@@ -45,6 +52,9 @@ struct TumBagSpec {
   /// message then), so that `rosbag play` stays up while its transport
   /// sends the last frames.
   double end_padding_s = 0;
+  /// Written on /tf_static, latched as tf2's static broadcaster publishes,
+  /// just before the first frame (a robot's TF tree).
+  std::vector<StaticTf> static_tf;
 };
 
 /// A message header at time t (s).
