@@ -4,6 +4,7 @@
 
 #include <algorithm>
 
+#include "core/atomic_file.h"
 #include "core/errors.h"
 #include "core/run_layout.h"
 #include "core/staged_folder.h"
@@ -99,7 +100,8 @@ const std::vector<std::string>& nodeParamNames() {
   static const std::vector<std::string> names{
       "rgb_topic",  "rgb_transport", "depth_topic", "camera_info_topic", "config",
       "mode",       "camera",        "map_frame",   "odom_frame",        "camera_frame",
-      "publish_tf", "output_dir",    "save_map",    "sync_queue",        "frame_queue"};
+      "publish_tf", "output_dir",    "save_map",    "map",               "localize",
+      "sync_queue", "frame_queue"};
   return names;
 }
 
@@ -139,6 +141,12 @@ NodeParams readNodeParams(const std::map<std::string, Value>& given) {
     throw UsageError("~odom_frame and ~camera_frame are both " + p.odom_frame);
   p.publish_tf = r.flag("publish_tf", p.publish_tf);
   p.save_map = r.flag("save_map", p.save_map);
+  p.localize = r.flag("localize", p.localize);
+  p.map = r.text("map", "");
+  if (p.localize && p.map.empty()) throw UsageError("~localize needs a map (~map MAP.dsm)");
+  if (p.localize && given.count("save_map") && p.save_map)
+    throw UsageError("~save_map with ~localize: localisation does not change the map");
+  if (p.localize) p.save_map = false;
   p.sync_queue = r.count("sync_queue", kDefaultSyncQueue, 1, kMaxNodeQueue);
   p.frame_queue = r.count("frame_queue", kDefaultFrameQueue, 1, kMaxNodeQueue);
   // Files last: a bad parameter is reported before a file is read.
@@ -147,8 +155,15 @@ NodeParams readNodeParams(const std::map<std::string, Value>& given) {
   const std::string camera = r.text("camera", "");
   loadSlamConfig(p.config.empty() ? defaultSlamConfigPath() : p.config);
   if (!camera.empty()) p.camera_override = loadCameraYaml(camera);
-  if (!p.output_dir.empty())
+  if (!p.map.empty()) requireRegularFile(p.map, "saved map (map.dsm)");
+  if (!p.output_dir.empty()) {
+    // The run folder is replaced whole when saved: it must not hold the map.
+    if (!p.map.empty() && isInsideFolder(p.map, p.output_dir))
+      throw InputError(p.output_dir, "holds " + p.map +
+                                         ", the map the node starts in: saving would replace the "
+                                         "folder and delete it; choose another ~output_dir");
     checkOutputFolder(p.output_dir, {kRunInfoFile, kReportFile, kTrajectoryFile});
+  }
   return p;
 }
 

@@ -49,6 +49,8 @@ struct NodeParams {
   std::string odom_frame;
   bool publish_tf = true;
   std::string output_dir;  ///< "" = ~save refuses, nothing written at exit
+  std::string map;         ///< a saved map.dsm to start in ("" = a new map)
+  bool localize = false;   ///< track in `map`, add nothing (no map.dsm saved)
   bool save_map = true;
   int sync_queue = kDefaultSyncQueue;
   int frame_queue = kDefaultFrameQueue;

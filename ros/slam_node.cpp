@@ -85,6 +85,9 @@ struct SlamNode::Impl {
   std::unique_ptr<FramePairing<ImageMsg>> raw_pairing;
   std::unique_ptr<FramePairing<CompressedMsg>> compressed_pairing;
   bool stopped = false;
+  /// The session could not start (a saved map that does not load): the node
+  /// stops and exits 1.
+  std::atomic<bool> failed{false};
 
   std::unique_ptr<FrameQueue<PendingFrame>> queue;  // made before the SLAM thread starts
   std::mutex session_mutex;  // the SLAM thread and ~save
@@ -273,10 +276,24 @@ struct SlamNode::Impl {
       o.config_path = p.config;
       o.mode = p.mode;
       o.source = "dynslam_node " + p.rgbSubscription() + " + " + p.depth_topic;
-      session = std::make_unique<SlamSession>(o, camera);
-      ROS_INFO("dynslam_node: started on %s at its header.seq %u (%dx%d, mode %s)",
+      o.map_path = p.map;
+      o.localize = p.localize;
+      try {
+        session = std::make_unique<SlamSession>(o, camera);
+      } catch (const std::exception& e) {  // the map does not fit this camera, or is damaged
+        ROS_ERROR("dynslam_node: cannot start the session: %s", oneLineMessage(e.what()).c_str());
+        failed = true;
+        ros::requestShutdown();
+        queue->close();
+        return;
+      }
+      ROS_INFO("dynslam_node: started on %s at its header.seq %u (%dx%d, mode %s%s%s)",
                p.rgbSubscription().c_str(), m.rgbHeader().seq, camera.width, camera.height,
-               dynamicModeName(p.mode));
+               dynamicModeName(p.mode), p.map.empty() ? "" : p.localize ? ", localising in " : ", continuing ",
+               p.map.c_str());
+      // A loaded map is shown whole from the start (localisation adds no keyframes).
+      if (!p.map.empty())
+        cloud_pub.publish(mapPointCloud(session->slam().map(), frame.timestamp, p.map_frame));
     }
     session->addDropped(queue->takeDropped());
     const FrameOutcome out = session->process(frame);
@@ -418,6 +435,7 @@ bool SlamNode::stopAndSave() {
   d.compressed_pairing.reset();
   d.queue->close();
   if (d.worker.joinable()) d.worker.join();
+  if (d.failed) return false;
   if (d.p.output_dir.empty() || !d.session || d.session->saved()) return true;
   std::string why;
   if (d.save(why)) return true;

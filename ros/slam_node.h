@@ -17,7 +17,8 @@
 //   config (configs/dynslam.yaml), mode (detect+flow), camera (a camera YAML
 //   replacing CameraInfo's intrinsics), map_frame (map), odom_frame (unset:
 //   no robot), camera_frame (unset: the images' frame_id), publish_tf (true),
-//   output_dir (where ~save writes the run folder; also written at
+//   map (a saved map.dsm to start in), localize (false: track in it, add
+//   nothing), output_dir (where ~save writes the run folder; also written at
 //   shutdown when set and not saved yet), save_map (true), sync_queue (10),
 //   frame_queue (1: frames waiting for SLAM; the oldest is dropped when a
 //   frame comes to a full queue, so 1 tracks the newest frame, as a live

@@ -64,8 +64,11 @@ SlamSession::SlamSession(const SlamSessionOptions& options, const PinholeCamera&
       camera_(camera) {
   const SlamConfig loaded = loadSlamConfig(config_path_);
   config_used_ = slamConfigYaml(loaded);
-  const SlamConfig cfg = configForMode(loaded, options.mode);
+  const SlamConfig cfg = configForMode(loaded, options.mode, options.localize);
   slam_ = std::make_unique<SlamSystem>(cfg, camera_);
+  if (!options.map_path.empty())
+    loaded_map_ = std::make_unique<LoadedMapReport>(
+        loadMapMeasured(*slam_, options.map_path, options.localize));
   if (options.mode != DynamicMode::kOff) {
     DynamicFilterParams dynamic = cfg.dynamic;
     dynamic.live_detector = true;  // a live camera cannot wait for late boxes
@@ -116,7 +119,7 @@ void SlamSession::save(const std::string& out_dir, bool save_map) {
   const std::string frames_dir = staged.path() + "/" + kLiveFramesFolder;
   writeKeyFrameFolder(frames_dir, keyframe_frames_, slam_->keyFrameTrajectory(), camera_,
                       options_.source);
-  if (save_map) slam_->saveMap(layout.savedMap());
+  if (save_map && !options_.localize) slam_->saveMap(layout.savedMap());
   writeSlamOutputs(layout, *slam_, *record_, options_.source, config_used_);
 
   RunInfo info;
@@ -124,6 +127,8 @@ void SlamSession::save(const std::string& out_dir, bool save_map) {
   info.config = fs::absolute(config_path_).string();
   info.mode = dynamicModeName(options_.mode);
   info.frames = counts_.processed;
+  if (!options_.map_path.empty()) info.map = fs::absolute(options_.map_path).string();
+  info.localize = options_.localize;
   writeRunInfo(layout.runInfo(), info);
 
   RunOptions o;
@@ -132,7 +137,10 @@ void SlamSession::save(const std::string& out_dir, bool save_map) {
   o.config_path = config_path_;
   o.mode = options_.mode;
   o.realtime = true;  // frames came at the sensor's rate; late ones were dropped
-  o.save_map = save_map;
+  o.save_map = save_map && !options_.localize;
+  o.map_path = options_.map_path;
+  o.localize = options_.localize;
+  if (loaded_map_) loaded_map_->unchanged = options_.localize && mapLeftAsRead(*slam_, *loaded_map_);
   RunSummary sum;
   sum.frames = counts_.received;
   sum.processed = counts_.processed;
@@ -150,7 +158,7 @@ void SlamSession::save(const std::string& out_dir, bool save_map) {
   if (const auto it = refused_.find(kStampNotAdvancing); it != refused_.end())
     notes.frames_stamp_not_advancing = it->second;
   std::string report = runReportJson({o, config_path_, camera_.name, config_used_, sum, *record_,
-                                      *slam_, notes, filter_.get(), nullptr, nullptr});
+                                      *slam_, notes, filter_.get(), nullptr, loaded_map_.get()});
   // The frames were read in the staging folder; the report names their final place.
   const std::string final_frames = fs::absolute(out_dir).string() + "/" + kLiveFramesFolder;
   for (std::size_t at; (at = report.find(frames_dir)) != std::string::npos;)

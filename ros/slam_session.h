@@ -22,6 +22,7 @@ namespace dynslam {
 
 class DynamicFeatureFilter;
 class RunRecorder;
+struct LoadedMapReport;
 
 /// The TUM folder of keyframe frames inside a saved live run folder.
 inline constexpr const char* kLiveFramesFolder = "frames";
@@ -30,6 +31,12 @@ struct SlamSessionOptions {
   std::string config_path;  ///< SLAM config; empty: configs/dynslam.yaml
   DynamicMode mode = DynamicMode::kDetectAndFlow;
   std::string source;  ///< where frames come from (run headers, report.json)
+  /// A map saved by `dynslam run --save-map` or the node (map.dsm) to start
+  /// in, as `dynslam run --map`; empty = a new map.
+  std::string map_path;
+  /// With map_path: track in it and add nothing (`run --map --localize`);
+  /// the saved run then has no map.dsm.
+  bool localize = false;
 };
 
 struct SessionCounts {
@@ -44,7 +51,7 @@ struct SessionCounts {
 
 class SlamSession {
  public:
-  /// Throws InputError for a bad config file.
+  /// Throws InputError for a bad config file or a map that cannot be used.
   SlamSession(const SlamSessionOptions& options, const PinholeCamera& camera);
   ~SlamSession();
 
@@ -90,6 +97,7 @@ class SlamSession {
   std::unique_ptr<SlamSystem> slam_;
   std::unique_ptr<DynamicFeatureFilter> filter_;
   std::unique_ptr<RunRecorder> record_;
+  std::unique_ptr<LoadedMapReport> loaded_map_;  ///< with options_.map_path
   std::vector<RGBDFrame> keyframe_frames_;  ///< frames that made a keyframe
   SessionCounts counts_;
   std::map<std::string, std::size_t> refused_;

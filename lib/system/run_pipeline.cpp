@@ -38,6 +38,22 @@ double latestStageMs(const StageTimes& times, const std::string& stage, std::siz
 
 }  // namespace
 
+LoadedMapReport loadMapMeasured(SlamSystem& slam, const std::string& path, bool localize) {
+  LoadedMapReport loaded;
+  const auto t0 = SteadyClock::now();
+  const double cpu0 = processCpuSeconds();
+  loaded.file = slam.loadMap(path, localize);
+  loaded.load_s = secondsSince(t0);
+  loaded.load_cpu_s = processCpuSeconds() - cpu0;
+  loaded.peak_rss_mb_after_load = peakRssMb();
+  return loaded;
+}
+
+bool mapLeftAsRead(const SlamSystem& slam, const LoadedMapReport& loaded) {
+  // Localisation must leave the map as it was read: checked, not assumed.
+  return crc32Of(slam.encodeMap(), mapio::kMapHeaderBytes) == loaded.file.payload_crc;
+}
+
 RunSummary runSlam(const RunOptions& opt) {
   if (opt.localize && opt.map_path.empty())
     throw std::invalid_argument("localisation needs a map (--map MAP.dsm)");
@@ -71,14 +87,7 @@ RunSummary runSlam(const RunOptions& opt) {
 
   SlamSystem slam(cfg, source->camera());
   LoadedMapReport loaded;
-  if (!opt.map_path.empty()) {
-    const auto tl = SteadyClock::now();
-    const double cpu0 = processCpuSeconds();
-    loaded.file = slam.loadMap(opt.map_path, opt.localize);
-    loaded.load_s = secondsSince(tl);
-    loaded.load_cpu_s = processCpuSeconds() - cpu0;
-    loaded.peak_rss_mb_after_load = peakRssMb();
-  }
+  if (!opt.map_path.empty()) loaded = loadMapMeasured(slam, opt.map_path, opt.localize);
   std::unique_ptr<DynamicFeatureFilter> filter;
   if (opt.mode != DynamicMode::kOff) {
     DynamicFilterParams dynamic = cfg.dynamic;
@@ -163,9 +172,7 @@ RunSummary runSlam(const RunOptions& opt) {
 
   const RunLayout layout{staged.path()};
   if (opt.save_map) slam.saveMap(layout.savedMap());
-  // Localisation must leave the map as it was read: checked, not assumed.
-  loaded.unchanged =
-      opt.localize && crc32Of(slam.encodeMap(), mapio::kMapHeaderBytes) == loaded.file.payload_crc;
+  loaded.unchanged = opt.localize && mapLeftAsRead(slam, loaded);
   writeSlamOutputs(layout, slam, record, opt.input, config_used);
   RunInfo info;
   const auto absolute = [](const std::string& p) {

@@ -93,6 +93,14 @@ RunSummary runSlam(const RunOptions& options);
 class RunRecorder;
 class SlamSystem;
 struct RunLayout;
+struct LoadedMapReport;
+
+/// slam.loadMap(path, localize) with its time, CPU and peak memory, for
+/// report.json `loaded_map` (`dynslam run --map` and the node's ~map).
+LoadedMapReport loadMapMeasured(SlamSystem& slam, const std::string& path, bool localize);
+/// Whether the map still encodes as the file it was loaded from (what
+/// localisation must leave it as).
+bool mapLeftAsRead(const SlamSystem& slam, const LoadedMapReport& loaded);
 /// The run folder's SLAM files, written the same way by `dynslam run` and
 /// the ROS node's save: trajectory.txt, keyframes.txt (headed "run of
 /// `input`"), map_points.txt, frame_times.txt, the keyframe masks and

@@ -43,6 +43,8 @@ constexpr double kPlayRate = 1.0;
 constexpr double kNodeAteFactor = 1.1;
 /// ATEs (m) that count as the same trajectory (issue 64: compressed RGB).
 constexpr double kSameAteM = 0.001;
+/// Frames a node localising in a saved map of the same scene must track (issue 64).
+constexpr double kLocalisedShare = 0.95;
 /// map -> camera through TF against ~pose (issue 64): 1 mm, 0.1 degree.
 constexpr double kTfToleranceM = 0.001;
 constexpr double kTfToleranceDeg = 0.1;
@@ -423,6 +425,33 @@ TEST(NodeIntegration, ACameraFrameWithAParentGetsNoSecondOne) {
   EXPECT_EQ(parentsOf(r.rec).count("openni_rgb_optical_frame"), 1u);
   EXPECT_EQ(parentsOf(r.rec)["openni_rgb_optical_frame"], std::set<std::string>{"base_link"});
   EXPECT_NE(r.log.find("already has the parent base_link"), std::string::npos) << r.log;
+}
+
+TEST(NodeIntegration, LocalisesInASavedMapAndLeavesItUnchanged) {
+  // Yesterday's map of the floor, today's replay: the node tracks in the
+  // saved map (its poses in that map's frame) and adds nothing to it.
+  const std::string bag = cachedBag("tum32f", {});
+  const TempDir mapping_tmp, localising_tmp;
+  const NodeRun mapping = playThroughNode(mapping_tmp, bag, "off", kPlayRate, kQueueEveryFrame);
+  const std::string map = mapping_tmp / "run/map.dsm";
+  ASSERT_TRUE(fs::exists(map)) << mapping.log;
+  const std::string map_bytes = readText(map);
+  const NodeRun localising =
+      playThroughNode(localising_tmp, bag, "off", kPlayRate,
+                      std::string(kQueueEveryFrame) + " _map:=" + shellQuote(map) +
+                          " _localize:=true");
+  expectEveryFrameAccountedFor(localising, kAcceptanceFrames);
+  EXPECT_GE(localising.tracked, kLocalisedShare * kAcceptanceFrames) << localising.log;
+  const Trajectory gt = readTumTrajectory(rpyDir() + "/groundtruth.txt");
+  const double mapping_ate = computeAte(gt, mapping.rec.poses).stats.rmse;
+  const double localising_ate = computeAte(gt, localising.rec.poses).stats.rmse;
+  std::printf("ATE mapping %.5f m, localising in its map %.5f m\n", mapping_ate,
+              localising_ate);
+  EXPECT_LE(localising_ate, kNodeAteFactor * mapping_ate);
+  EXPECT_EQ(readText(map), map_bytes);
+  EXPECT_FALSE(fs::exists(localising_tmp / "run/map.dsm"));
+  const cv::FileStorage report = openRunReport(localising_tmp / "run");
+  EXPECT_EQ(static_cast<int>(report["loaded_map"]["unchanged"]), 1);
 }
 
 TEST(NodeIntegration, GapsInTheRgbSequenceNumbersAreCountedAsLostInTransport) {

@@ -103,7 +103,27 @@ TEST(NodeParams, EveryParameterIsCheckedWithTheClisRules) {
                 .find("/nonexistent/camera.yaml"),
             std::string::npos);
   EXPECT_FALSE(usage);
+  // Localisation needs a map, does not save one, and the map must exist.
+  EXPECT_NE(refusalOf({{"localize", XmlRpc::XmlRpcValue(true)}}, &usage).find("~localize needs"),
+            std::string::npos);
+  EXPECT_TRUE(usage);
   const TempDir tmp;
+  EXPECT_NE(refusalOf({{"map", XmlRpc::XmlRpcValue(tmp / "none.dsm")}}, &usage)
+                .find(tmp / "none.dsm"),
+            std::string::npos);
+  EXPECT_FALSE(usage);
+  std::ofstream(tmp / "map.dsm") << "a map\n";
+  EXPECT_NE(refusalOf({{"map", XmlRpc::XmlRpcValue(tmp / "map.dsm")},
+                       {"localize", XmlRpc::XmlRpcValue(true)},
+                       {"save_map", XmlRpc::XmlRpcValue(true)}})
+                .find("~save_map with ~localize"),
+            std::string::npos);
+  // The folder the node saves to is replaced whole: it must not hold the map.
+  EXPECT_NE(refusalOf({{"map", XmlRpc::XmlRpcValue(tmp / "map.dsm")},
+                       {"output_dir", XmlRpc::XmlRpcValue(tmp.path())}},
+                      &usage)
+                .find("holds"),
+            std::string::npos);
   std::ofstream(tmp / "a_file") << "not a run\n";
   EXPECT_NE(refusalOf({{"output_dir", XmlRpc::XmlRpcValue(tmp / "a_file")}}, &usage)
                 .find(tmp / "a_file"),
