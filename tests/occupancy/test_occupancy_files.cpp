@@ -160,7 +160,7 @@ TEST(MapServerFiles, PgmAndYamlAsMapServerReadsThem) {
   EXPECT_EQ(img.at<std::uint8_t>(1, 2), 254);
   EXPECT_EQ(img.at<std::uint8_t>(0, 0), 205);
   const auto f = yamlFields(test::readText(d / "map.yaml"));
-  EXPECT_EQ(f.at("image"), "map.pgm");
+  EXPECT_EQ(f.at("image"), "\"map.pgm\"");  // a quoted YAML string, as every string written
   EXPECT_DOUBLE_EQ(std::stod(f.at("resolution")), 0.05);
   EXPECT_EQ(f.at("origin"), "[-1.250000, 2.500000, 0.0]");
   EXPECT_EQ(f.at("negate"), "0");
