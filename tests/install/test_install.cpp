@@ -143,4 +143,24 @@ TEST_F(Installed, RosNodeAndLaunchFileAreFoundByRoslaunch) {
   EXPECT_TRUE(
       fs::equivalent(prefix_ + "/share/dynslam/dynslam_node", prefix_ + "/bin/dynslam_node"));
 }
+
+// The rviz demo (issue 64): installed, and its launch file names the node,
+// rviz and the player of the bag given (rviz itself is not needed to list them).
+TEST_F(Installed, RvizDemoIsInstalledWithItsLaunchFile) {
+  const std::string share = prefix_ + "/share/dynslam";
+  EXPECT_EQ(readText(share + "/rviz/dynslam.rviz"), readText(sourceDir() + "/ros/rviz/dynslam.rviz"));
+  EXPECT_EQ(readText(share + "/launch/demo.launch"),
+            readText(sourceDir() + "/ros/launch/demo.launch"));
+  const SplitCommandResult r = runShellSplit(
+      "env -C " + shellQuote(*tmp_ / "elsewhere") + " ROS_PACKAGE_PATH=" +
+      shellQuote(prefix_ + "/share") + " roslaunch --nodes dynslam demo.launch bag:=/tmp/x.bag");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  for (const char* node : {"/dynslam", "/rviz", "/player"})
+    EXPECT_TRUE(has(r.out, node)) << node << " not in: " << r.out << r.err;
+  // The rviz view shows the node's topics.
+  const std::string rviz = readText(share + "/rviz/dynslam.rviz");
+  for (const char* topic : {"/dynslam/path", "/dynslam/map_points", "/dynslam/dynamic_mask"})
+    EXPECT_TRUE(has(rviz, topic)) << topic;
+  EXPECT_NO_THROW(mrpt::containers::yaml::FromFile(share + "/rviz/dynslam.rviz"));
+}
 #endif
