@@ -145,6 +145,12 @@ void expectSameRunFiles(const std::string& expected_dir, const std::string& actu
   }
 }
 
+void expectRunExports(const std::string& run_dir, const std::string& ply) {
+  const SplitCommandResult r = runDynslamSplit({"export", run_dir, "-o", ply, "--no-carving"});
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(std::filesystem::exists(ply)) << ply;
+}
+
 double ateRmse(const std::string& run_dir) {
   const Trajectory gt = readTumTrajectory(rpyDir() + "/groundtruth.txt");
   const Trajectory est = readTumTrajectory(run_dir + "/trajectory.txt");

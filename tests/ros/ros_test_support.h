@@ -50,6 +50,10 @@ std::string millimetreFolderRun();
 /// "# dynslam VERSION run of INPUT" comment, which names the input.
 void expectSameRunFiles(const std::string& expected_dir, const std::string& actual_dir);
 
+/// `dynslam export RUN -o PLY --no-carving` succeeds and writes PLY: the run
+/// folder is one dynslam's own commands read.
+void expectRunExports(const std::string& run_dir, const std::string& ply);
+
 /// ATE RMSE (m) of RUN/trajectory.txt against fr1_rpy's groundtruth.txt.
 double ateRmse(const std::string& run_dir);
 

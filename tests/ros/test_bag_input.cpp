@@ -240,10 +240,7 @@ TEST(BagInput, ExportReadsTheTopicsTheRunChose) {
   text << info.rdbuf();
   EXPECT_TRUE(std::regex_search(text.str(), std::regex("rgb_topic: \"?/left/image_raw")))
       << text.str();
-  const SplitCommandResult exported =
-      runDynslamSplit({"export", dir / "run", "-o", dir / "map.ply", "--no-carving"});
-  EXPECT_EQ(exported.exit_code, 0) << exported.err;
-  EXPECT_TRUE(fs::exists(dir / "map.ply"));
+  expectRunExports(dir / "run", dir / "map.ply");
 }
 
 TEST(BadBags, NoCameraInfoNeedsACameraFile) {

@@ -393,9 +393,7 @@ TEST(BagStampFaults, DuplicatedZeroAndBackwardsFramesAreDroppedAndCounted) {
   ASSERT_TRUE(report.isOpened());
   EXPECT_EQ(static_cast<int>(report["input_source"]["frames_stamp_not_advancing"]), 3);
   // The run folder is one dynslam's own commands read.
-  const SplitCommandResult exported =
-      runDynslamSplit({"export", dir / "run", "-o", dir / "map.ply", "--no-carving"});
-  EXPECT_EQ(exported.exit_code, 0) << exported.err;
+  expectRunExports(dir / "run", dir / "map.ply");
 
   const SplitCommandResult c = runDynslamSplit({"convert", bag, dir / "out.rawlog", "--quiet"});
   ASSERT_EQ(c.exit_code, 0) << c.err;
@@ -414,10 +412,7 @@ TEST(BagTopicFaults, TopicWithALineBreakRoundTripsThroughRunInfo) {
   edits.topic = [&](const std::string& t) { return t == TumBagSpec().rgb_topic ? topic : t; };
   const std::string bag = editedBag(dir, "newline.bag", edits);
   runOk(dir, bag, {"--rgb-topic", topic});
-  const SplitCommandResult exported =
-      runDynslamSplit({"export", dir / "run", "-o", dir / "map.ply", "--no-carving"});
-  EXPECT_EQ(exported.exit_code, 0) << exported.err;
-  EXPECT_TRUE(fs::exists(dir / "map.ply"));
+  expectRunExports(dir / "run", dir / "map.ply");
 }
 
 // ---- defect 11: big-endian 16UC1 depth

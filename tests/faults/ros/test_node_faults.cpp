@@ -357,8 +357,7 @@ void soak(std::size_t frames, const std::vector<Damage>& kinds, bool compressed)
     EXPECT_NE(log.find("frame dropped (" + reason), std::string::npos) << log;
 
   // The saved run folder exports.
-  const SplitCommandResult exp = runDynslamSplit({"export", tmp / "run", "-o", tmp / "map.ply"});
-  EXPECT_EQ(exp.exit_code, 0) << exp.err;
+  expectRunExports(tmp / "run", tmp / "map.ply");
 }
 
 TEST(NodeFaults, ASoakOfBadMessagesCostsOnlyThoseFramesAndSigtermSaves) {
