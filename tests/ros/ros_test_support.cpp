@@ -145,6 +145,15 @@ void expectSameRunFiles(const std::string& expected_dir, const std::string& actu
   }
 }
 
+std::string writeSmallBag(const std::string& path, std::size_t frames,
+                          const std::function<void(TumBagSpec&)>& change) {
+  TumBagSpec spec;
+  spec.frames = frames;
+  if (change) change(spec);
+  writeTumBag(path, spec);
+  return path;
+}
+
 void expectRunExports(const std::string& run_dir, const std::string& ply) {
   const SplitCommandResult r = runDynslamSplit({"export", run_dir, "-o", ply, "--no-carving"});
   EXPECT_EQ(r.exit_code, 0) << r.err;

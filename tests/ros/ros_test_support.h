@@ -4,6 +4,7 @@
 // ctest case is its own process, so they are cached on disk under the build
 // folder, keyed by the binaries' modification times), and the ATE of a run
 // against the folder's own groundtruth.txt.
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -28,6 +29,11 @@ inline constexpr const char* kQueueEveryFrame = "_frame_queue:=1000 _sync_queue:
 
 /// Frames of fr1_rpy in the acceptance bags (issue 58).
 inline constexpr std::size_t kAcceptanceFrames = 150;
+
+/// writeTumBag(path) of the first `frames` frames, the spec as `change`
+/// makes it (the bag tests' small damaged or odd bags); returns `path`.
+std::string writeSmallBag(const std::string& path, std::size_t frames,
+                          const std::function<void(TumBagSpec&)>& change = {});
 
 /// A bag written by writeTumBag(spec) under the cache, named `name`.bag.
 std::string cachedBag(const std::string& name, const TumBagSpec& spec);

@@ -168,12 +168,7 @@ void expectRefused(const TempDir& dir, const std::string& bag, int exit_code,
 /// A small bag (kSmallBagFrames) in `dir`, as `change` makes it.
 std::string smallBag(const TempDir& dir, const std::string& name,
                      const std::function<void(TumBagSpec&)>& change = {}) {
-  TumBagSpec spec;
-  spec.frames = kSmallBagFrames;
-  if (change) change(spec);
-  const std::string bag = dir / name;
-  writeTumBag(bag, spec);
-  return bag;
+  return writeSmallBag(dir / name, kSmallBagFrames, change);
 }
 
 TEST(BadBags, TruncatedBag) {

@@ -113,12 +113,7 @@ void patchBag(const std::string& path, const std::function<void(std::string&)>& 
 
 std::string smallBag(const TempDir& dir, const std::string& name,
                      const std::function<void(TumBagSpec&)>& change = {}) {
-  TumBagSpec spec;
-  spec.frames = kFrames;
-  if (change) change(spec);
-  const std::string bag = dir / name;
-  writeTumBag(bag, spec);
-  return bag;
+  return writeSmallBag(dir / name, kFrames, change);
 }
 
 /// Message edits applied while copying a bag (n: the message's 0-based
