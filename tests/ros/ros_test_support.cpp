@@ -11,8 +11,10 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include <iomanip>
+#include <sstream>
 
 #include "core/trajectory.h"
+#include "faults/fault_support.h"
 #include "eval/trajectory_eval.h"
 #include "rawlog/tum_folder_source.h"
 #include "testing/test_support.h"
@@ -152,6 +154,33 @@ std::string writeSmallBag(const std::string& path, std::size_t frames,
   if (change) change(spec);
   writeTumBag(path, spec);
   return path;
+}
+
+void expectOnlyDynslamLines(const std::string& err) {
+  std::istringstream in(err);
+  for (std::string line; std::getline(in, line);)
+    EXPECT_TRUE(line.rfind("dynslam ", 0) == 0 || line.rfind("[", 0) == 0 ||
+                line.rfind("run 'dynslam ", 0) == 0)  // a usage error's second line
+        << line;
+}
+
+void expectBagRefused(const std::string& dir, const std::string& bag, int exit_code,
+                      const std::vector<std::string>& words,
+                      const std::vector<std::string>& extra) {
+  std::vector<std::string> run{"run", bag, "-o", dir + "/run", "--mode", "off"};
+  std::vector<std::string> convert{"convert", bag, dir + "/out.rawlog", "--quiet"};
+  run.insert(run.end(), extra.begin(), extra.end());
+  convert.insert(convert.end(), extra.begin(), extra.end());
+  for (const auto& args : {run, convert}) {
+    SCOPED_TRACE(args[0]);
+    const SplitCommandResult r = runDynslamSplit(args);
+    expectHandledFault(r, exit_code, bag);
+    for (const std::string& w : words)
+      EXPECT_NE(r.err.find(w), std::string::npos) << w << ": " << r.err;
+    expectOnlyDynslamLines(r.err);
+    EXPECT_EQ(entriesIn(dir),
+              std::vector<std::string>{std::filesystem::path(bag).filename().string()});
+  }
 }
 
 void expectRunExports(const std::string& run_dir, const std::string& ply) {

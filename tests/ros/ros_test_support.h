@@ -56,6 +56,18 @@ std::string millimetreFolderRun();
 /// "# dynslam VERSION run of INPUT" comment, which names the input.
 void expectSameRunFiles(const std::string& expected_dir, const std::string& actual_dir);
 
+/// Only dynslam's own lines reach stderr: its error line (and a usage error's
+/// "run 'dynslam CMD --help'" line) and its log lines ("[channel] ..."), no
+/// rosbag, rosconsole or rospack line.
+void expectOnlyDynslamLines(const std::string& err);
+
+/// `run` and `convert` of `bag` (plus `extra`) both fail with `exit_code` and
+/// one line naming the bag and holding each of `words`, with only dynslam's
+/// lines on stderr; nothing is left in `dir` but the bag.
+void expectBagRefused(const std::string& dir, const std::string& bag, int exit_code,
+                      const std::vector<std::string>& words,
+                      const std::vector<std::string>& extra = {});
+
 /// `dynslam export RUN -o PLY --no-carving` succeeds and writes PLY: the run
 /// folder is one dynslam's own commands read.
 void expectRunExports(const std::string& run_dir, const std::string& ply);

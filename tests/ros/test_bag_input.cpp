@@ -145,24 +145,13 @@ TEST(BagInput, CompressedRgbGivesTheFolderAteWithin1mm) {
 
 // ---- bad bags: run and convert both refuse, with one line, writing nothing.
 
-/// Runs `run` and `convert` on `bag` and checks both fail with `exit_code`,
-/// one error line naming `bag` and containing `topic` (if not empty), and
-/// leave nothing in `dir` but the bag.
+/// Runs `run` and `convert` on `bag` (expectBagRefused), the error naming
+/// `topic` when it is not empty.
 void expectRefused(const TempDir& dir, const std::string& bag, int exit_code,
                    const std::string& topic, const std::vector<std::string>& extra = {}) {
-  std::vector<std::string> run{"run", bag, "-o", dir / "run", "--mode", "off"};
-  std::vector<std::string> convert{"convert", bag, dir / "out.rawlog", "--quiet"};
-  run.insert(run.end(), extra.begin(), extra.end());
-  convert.insert(convert.end(), extra.begin(), extra.end());
-  for (const auto& args : {run, convert}) {
-    SCOPED_TRACE(args[0]);
-    const SplitCommandResult r = runDynslamSplit(args);
-    expectHandledFault(r, exit_code, bag);
-    if (!topic.empty()) {
-      EXPECT_NE(r.err.find(topic), std::string::npos) << r.err;
-    }
-    EXPECT_EQ(entriesIn(dir.path()), std::vector<std::string>{fs::path(bag).filename().string()});
-  }
+  expectBagRefused(dir.path(), bag, exit_code,
+                   topic.empty() ? std::vector<std::string>{} : std::vector<std::string>{topic},
+                   extra);
 }
 
 /// A small bag (kSmallBagFrames) in `dir`, as `change` makes it.

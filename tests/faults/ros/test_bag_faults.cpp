@@ -160,36 +160,6 @@ std::string editedBag(const TempDir& dir, const std::string& name, const BagEdit
   return dir / name;
 }
 
-/// Only dynslam's own lines reach stderr: its error line and its log lines
-/// ("[channel] ..."), no rosbag, rosconsole or rospack line.
-void expectOnlyDynslamLines(const std::string& err) {
-  std::istringstream in(err);
-  for (std::string line; std::getline(in, line);)
-    EXPECT_TRUE(line.rfind("dynslam ", 0) == 0 || line.rfind("[", 0) == 0) << line;
-}
-
-/// `run` and `convert` of `bag` (plus `extra`) both fail with `exit_code` and
-/// one line naming the bag and holding each of `words`; nothing is left in
-/// `dir` but the bag.
-void expectRefused(const TempDir& dir, const std::string& bag, int exit_code,
-                   const std::vector<std::string>& words,
-                   const std::vector<std::string>& extra = {}) {
-  std::vector<std::string> run{"run", bag, "-o", dir / "run", "--mode", "off"};
-  std::vector<std::string> convert{"convert", bag, dir / "out.rawlog", "--quiet"};
-  run.insert(run.end(), extra.begin(), extra.end());
-  convert.insert(convert.end(), extra.begin(), extra.end());
-  for (const auto& args : {run, convert}) {
-    SCOPED_TRACE(args[0]);
-    const SplitCommandResult r = runDynslamSplit(args);
-    expectHandledFault(r, exit_code, bag);
-    for (const std::string& w : words)
-      EXPECT_NE(r.err.find(w), std::string::npos) << w << ": " << r.err;
-    expectOnlyDynslamLines(r.err);
-    const std::vector<std::string> left = entriesIn(dir.path());
-    EXPECT_EQ(left, std::vector<std::string>{fs::path(bag).filename().string()});
-  }
-}
-
 /// `dynslam run BAG` (with `extra`) into dir/run; asserts exit 0.
 SplitCommandResult runOk(const TempDir& dir, const std::string& bag,
                          const std::vector<std::string>& extra = {}) {
@@ -226,7 +196,7 @@ TEST(BagIndexFaults, IndexEntryOutsideItsChunkIsRefused) {
     const BagRecord index = recordsOf(b, kOpIndexData).at(0);
     putU32(b, index.data_pos + 8, kFarOffset);  // entry 1: sec, nsec, offset
   });
-  expectRefused(dir, bag, 1, {"index"});
+  expectBagRefused(dir.path(), bag, 1, {"index"});
 }
 
 // A message record inside an (uncompressed) chunk whose data length is far
@@ -250,7 +220,7 @@ TEST(BagIndexFaults, MessageRecordThatCrashesRosbagIsRefused) {
     }
     FAIL() << "no message record in the first chunk";
   });
-  expectRefused(dir, bag, 1, {});
+  expectBagRefused(dir.path(), bag, 1, {});
 }
 
 // ---- defect 7: a damaged index silently lost a frame
@@ -271,7 +241,7 @@ TEST(BagIndexFaults, IndexRecordOfAnotherConnectionIsRefused) {
     }
     FAIL() << "one connection only";
   });
-  expectRefused(dir, bag, 1, {"index"});
+  expectBagRefused(dir.path(), bag, 1, {"index"});
 }
 
 TEST(BagIndexFaults, ChunkInfoPointingAtTheNextChunkIsRefused) {
@@ -283,7 +253,7 @@ TEST(BagIndexFaults, ChunkInfoPointingAtTheNextChunkIsRefused) {
     const std::size_t pos = infos[1].value_pos.at("chunk_pos");
     std::memcpy(&b[pos], &b[infos[2].value_pos.at("chunk_pos")], 8);
   });
-  expectRefused(dir, bag, 1, {"index"});
+  expectBagRefused(dir.path(), bag, 1, {"index"});
 }
 
 // ---- defect 13: rosbag's own "Index entry ... invalid time" line
@@ -296,7 +266,7 @@ TEST(BagIndexFaults, IndexEntryOfInvalidTimeIsRefusedInOneLine) {
     putU32(b, index.data_pos, 0);      // sec
     putU32(b, index.data_pos + 4, 0);  // nsec: before ros::TIME_MIN
   });
-  expectRefused(dir, bag, 1, {"index"});
+  expectBagRefused(dir.path(), bag, 1, {"index"});
 }
 
 // rospack (behind rosbag's plugin loader) warns about its cache when
@@ -336,7 +306,7 @@ TEST(BagMessageFaults, JpegCutInHalfIsRefusedNamingTopicAndMessage) {
   };
   const std::string bag =
       editedBag(dir, "cut.bag", edits, [](TumBagSpec& s) { s.compressed_rgb = true; });
-  expectRefused(dir, bag, 1, {TumBagSpec().rgb_topic, "message 3", "JPEG"});
+  expectBagRefused(dir.path(), bag, 1, {TumBagSpec().rgb_topic, "message 3", "JPEG"});
 }
 
 TEST(BagMessageFaults, JpegWithoutItsEndMarkerIsRefused) {
@@ -347,7 +317,7 @@ TEST(BagMessageFaults, JpegWithoutItsEndMarkerIsRefused) {
   };
   const std::string bag =
       editedBag(dir, "noeoi.bag", edits, [](TumBagSpec& s) { s.compressed_rgb = true; });
-  expectRefused(dir, bag, 1, {TumBagSpec().rgb_topic, "message 2", "JPEG"});
+  expectBagRefused(dir.path(), bag, 1, {TumBagSpec().rgb_topic, "message 2", "JPEG"});
 }
 
 TEST(BagMessageFaults, UndecodableCompressedImageSaysItDoesNotDecode) {
@@ -358,7 +328,7 @@ TEST(BagMessageFaults, UndecodableCompressedImageSaysItDoesNotDecode) {
   };
   const std::string bag =
       editedBag(dir, "junk.bag", edits, [](TumBagSpec& s) { s.compressed_rgb = true; });
-  expectRefused(dir, bag, 1, {TumBagSpec().rgb_topic, "message 1", "cannot decode"});
+  expectBagRefused(dir.path(), bag, 1, {TumBagSpec().rgb_topic, "message 1", "cannot decode"});
 }
 
 // ---- defect 9: stamps that do not advance
@@ -464,7 +434,7 @@ TEST(BagInputFaults, FifoNamedLikeABagIsNotARegularFile) {
   const TempDir dir;
   const std::string fifo = dir / "pipe.bag";
   ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
-  expectRefused(dir, fifo, 1, {"not a regular file"});
+  expectBagRefused(dir.path(), fifo, 1, {"not a regular file"});
 }
 
 // ---- 32FC1 depth beyond what 16-bit units hold
@@ -489,7 +459,7 @@ BagEdits scaleDepth(float factor, const std::function<bool(int x, int y)>& which
 TEST(BagDepthRange, MillimetresLabelled32FC1AreRefused) {
   const TempDir dir;
   const std::string bag = editedBag(dir, "mm.bag", scaleDepth(1000, [](int, int) { return true; }));
-  expectRefused(dir, bag, 1, {TumBagSpec().depth_topic, "beyond 13.107 m"});
+  expectBagRefused(dir.path(), bag, 1, {TumBagSpec().depth_topic, "beyond 13.107 m"});
 }
 
 TEST(BagDepthRange, AFewFarPixelsAreReadAsNoDepthWithOneWarning) {
@@ -515,7 +485,7 @@ TEST(BagCameraInfo, OtherDistortionModelWithCoefficientsIsRefused) {
     c.D = {0.1, 0.01, 0.001, 0.0001};
   };
   const std::string bag = editedBag(dir, "equidistant.bag", edits);
-  expectRefused(dir, bag, 1, {"equidistant", "/camera/rgb/camera_info"});
+  expectBagRefused(dir.path(), bag, 1, {"equidistant", "/camera/rgb/camera_info"});
 }
 
 TEST(BagCameraInfo, OtherDistortionModelWithZeroCoefficientsRuns) {
@@ -538,7 +508,7 @@ TEST(BagCameraInfo, IntrinsicsThatChangeMidBagAreRefusedUnlessACameraYamlIsGiven
     if (n == 3) c.K[0] += 10;  // fx
   };
   const std::string bag = editedBag(dir, "fx.bag", edits);
-  expectRefused(dir, bag, 1, {"/camera/rgb/camera_info", "message 4"});
+  expectBagRefused(dir.path(), bag, 1, {"/camera/rgb/camera_info", "message 4"});
   runOk(dir, bag, {"--camera", sourceDir() + "/configs/tum_fr1.yaml"});
 }
 
