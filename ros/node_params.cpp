@@ -36,6 +36,18 @@ class ParamReader {
     if (v->getType() != Value::TypeBoolean) refuse(name, *v, "true or false");
     return static_cast<bool>(Value(*v));
   }
+  double number(const std::string& name, double fallback, double lo, double hi) const {
+    const Value* v = find(name);
+    if (!v) return fallback;
+    if (v->getType() != Value::TypeInt && v->getType() != Value::TypeDouble)
+      refuse(name, *v, "a number");
+    const double x = v->getType() == Value::TypeInt ? static_cast<int>(Value(*v))
+                                                   : static_cast<double>(Value(*v));
+    if (!(x >= lo && x <= hi))
+      throw UsageError("~" + name + " " + Value(*v).toXml() + " is outside [" +
+                       std::to_string(lo) + ", " + std::to_string(hi) + "]");
+    return x;
+  }
   int count(const std::string& name, int fallback, int lo, int hi) const {
     const Value* v = find(name);
     if (!v) return fallback;
@@ -101,7 +113,7 @@ const std::vector<std::string>& nodeParamNames() {
       "rgb_topic",  "rgb_transport", "depth_topic", "camera_info_topic", "config",
       "mode",       "camera",        "map_frame",   "odom_frame",        "camera_frame",
       "publish_tf", "output_dir",    "save_map",    "map",               "localize",
-      "sync_queue", "frame_queue"};
+      "grid_period_s", "sync_queue", "frame_queue"};
   return names;
 }
 
@@ -147,6 +159,7 @@ NodeParams readNodeParams(const std::map<std::string, Value>& given) {
   if (p.localize && given.count("save_map") && p.save_map)
     throw UsageError("~save_map with ~localize: localisation does not change the map");
   if (p.localize) p.save_map = false;
+  p.grid_period_s = r.number("grid_period_s", kDefaultGridPeriodS, 0, kMaxGridPeriodS);
   p.sync_queue = r.count("sync_queue", kDefaultSyncQueue, 1, kMaxNodeQueue);
   p.frame_queue = r.count("frame_queue", kDefaultFrameQueue, 1, kMaxNodeQueue);
   // Files last: a bad parameter is reported before a file is read.

@@ -25,6 +25,12 @@ inline constexpr int kDefaultFrameQueue = 1;
 /// The largest ~sync_queue / ~frame_queue: a queue of full 640x480 RGB-D
 /// frames this long holds about 20 GB, all this machine class has.
 inline constexpr int kMaxNodeQueue = 20000;
+/// Seconds between two rebuilds of the live grid (~grid_period_s): a robot's
+/// planner replans at about 1 Hz, and a rebuild of a few hundred keyframes
+/// takes a second or two of the second core.
+inline constexpr double kDefaultGridPeriodS = 2.0;
+/// The longest ~grid_period_s: an hour (0 turns the live grid off).
+inline constexpr double kMaxGridPeriodS = 3600.0;
 
 /// ~rgb_transport values: sensor_msgs/Image on rgb_topic, or (as
 /// image_transport's compressed plugin publishes it) sensor_msgs/CompressedImage
@@ -52,6 +58,7 @@ struct NodeParams {
   std::string map;         ///< a saved map.dsm to start in ("" = a new map)
   bool localize = false;   ///< track in `map`, add nothing (no map.dsm saved)
   bool save_map = true;
+  double grid_period_s = kDefaultGridPeriodS;  ///< 0: no live ~grid
   int sync_queue = kDefaultSyncQueue;
   int frame_queue = kDefaultFrameQueue;
 };

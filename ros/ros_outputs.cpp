@@ -5,6 +5,8 @@
 #include <sensor_msgs/image_encodings.h>
 #include <sensor_msgs/point_cloud2_iterator.h>
 
+#include <Eigen/Geometry>
+
 #include <mutex>
 
 #include "map/map_points_text.h"
@@ -53,6 +55,31 @@ geometry_msgs::TransformStamped transformMessage(const mrpt::poses::CPose3D& pos
   t.transform.translation.z = p.pose.position.z;
   t.transform.rotation = p.pose.orientation;
   return t;
+}
+
+nav_msgs::OccupancyGrid gridMessage(const NavigationGrid& g, double stamp,
+                                    const std::string& frame_id) {
+  nav_msgs::OccupancyGrid m;
+  m.header = header(stamp, frame_id);
+  m.info.map_load_time = m.header.stamp;
+  m.info.resolution = static_cast<float>(g.grid.resolution);
+  m.info.width = static_cast<uint32_t>(g.grid.width);
+  m.info.height = static_cast<uint32_t>(g.grid.height);
+  // p_level = R p_map: the grid's corner in the map frame is R^T of its level
+  // coordinates, and its axes are the level axes, R^T's columns.
+  const Eigen::Matrix3d level_to_map = g.level.R.transpose();
+  const Eigen::Vector3d corner =
+      level_to_map * Eigen::Vector3d(g.grid.origin_x, g.grid.origin_y, g.level.floor_height);
+  const Eigen::Quaterniond q(level_to_map);
+  m.info.origin.position.x = corner.x();
+  m.info.origin.position.y = corner.y();
+  m.info.origin.position.z = corner.z();
+  m.info.origin.orientation.x = q.x();
+  m.info.origin.orientation.y = q.y();
+  m.info.origin.orientation.z = q.z();
+  m.info.origin.orientation.w = q.w();
+  m.data.assign(g.grid.cells.begin(), g.grid.cells.end());
+  return m;
 }
 
 sensor_msgs::PointCloud2 mapPointCloud(Map& map, double stamp, const std::string& frame_id) {

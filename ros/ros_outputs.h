@@ -5,6 +5,7 @@
 #include <geometry_msgs/PoseStamped.h>
 #include <geometry_msgs/TransformStamped.h>
 #include <mrpt/poses/CPose3D.h>
+#include <nav_msgs/OccupancyGrid.h>
 #include <sensor_msgs/Image.h>
 #include <sensor_msgs/PointCloud2.h>
 
@@ -13,6 +14,7 @@
 #include <string>
 
 #include "map/map.h"
+#include "occupancy/navigation_grid.h"
 
 namespace dynslam {
 
@@ -28,6 +30,13 @@ geometry_msgs::TransformStamped transformMessage(const mrpt::poses::CPose3D& pos
 /// Every map point (x y z float32 and packed rgb, as map_points.txt), read
 /// under the map's mutex (the local mapper changes it meanwhile).
 sensor_msgs::PointCloud2 mapPointCloud(Map& map, double stamp, const std::string& frame_id);
+
+/// The navigation grid in `frame_id` (the map frame): its cells as they are
+/// (-1 unknown, 0 free, 100 occupied; row 0 = lowest level y), its origin the
+/// corner of cell (0, 0) on the floor plane, its orientation the level
+/// frame's (level_frame.h) in the map frame.
+nav_msgs::OccupancyGrid gridMessage(const NavigationGrid& grid, double stamp,
+                                    const std::string& frame_id);
 
 /// The dynamic mask (CV_8U, 255 = dynamic) as a mono8 image.
 sensor_msgs::Image maskMessage(const cv::Mat& mask, double stamp, const std::string& frame_id);

@@ -28,6 +28,7 @@
 #include "rawlog/bag_source.h"
 #include "ros/frame_queue.h"
 #include "ros/frame_refusals.h"
+#include "ros/live_grid.h"
 #include "ros/ros_outputs.h"
 #include "ros/sequence_gaps.h"
 #include "ros/slam_session.h"
@@ -116,6 +117,8 @@ struct SlamNode::Impl {
   nav_msgs::Path path;
   std::thread worker;
   ros::WallTimer type_check_timer;
+  /// Last member: its thread stops before the session goes.
+  std::unique_ptr<LiveGridPublisher> grid;
   std::set<std::string> type_mismatches_said;  // "topic type" pairs logged (ROS thread)
 
   /// Says once for each topic published with a type the node does not
@@ -364,6 +367,7 @@ struct SlamNode::Impl {
                    oneLineMessage(e.what()),
              false;
     }
+    grid->publishNow(session->gridInputs(), ros::Time::now().toSec());  // the final poses
     const SessionCounts c = session->counts();
     ROS_INFO(
         "dynslam_node: saved %s in %.1f s: %zu frames, %zu processed, %zu dropped (%zu refused), "
@@ -394,6 +398,12 @@ SlamNode::SlamNode(ros::NodeHandle& nh, ros::NodeHandle& pnh, const NodeParams& 
         return false;
       });
 
+  d.grid = std::make_unique<LiveGridPublisher>(
+      pnh, "grid", d.p.grid_period_s, d.p.map_frame, [this]() -> std::optional<GridInputs> {
+        std::lock_guard<std::mutex> lock(impl_->session_mutex);
+        if (!impl_->session || impl_->session->finished()) return std::nullopt;
+        return impl_->session->gridInputs();
+      });
   d.worker = std::thread([this] { impl_->run(); });
   d.type_check_timer = nh.createWallTimer(ros::WallDuration(kTopicTypeCheckS),
                                           [this](const ros::WallTimerEvent&) {
@@ -438,9 +448,10 @@ bool SlamNode::stopAndSave() {
   if (d.failed) return false;
   if (d.p.output_dir.empty() || !d.session || d.session->saved()) return true;
   std::string why;
-  if (d.save(why)) return true;
-  ROS_ERROR("dynslam_node: saving at exit: %s", why.c_str());
-  return false;
+  const bool saved = d.save(why);
+  if (!saved) ROS_ERROR("dynslam_node: saving at exit: %s", why.c_str());
+  d.grid.reset();
+  return saved;
 }
 
 SlamNode::~SlamNode() { stopAndSave(); }

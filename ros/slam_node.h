@@ -18,7 +18,8 @@
 //   replacing CameraInfo's intrinsics), map_frame (map), odom_frame (unset:
 //   no robot), camera_frame (unset: the images' frame_id), publish_tf (true),
 //   map (a saved map.dsm to start in), localize (false: track in it, add
-//   nothing), output_dir (where ~save writes the run folder; also written at
+//   nothing), grid_period_s (2: seconds between rebuilds of ~grid; 0: none),
+//   output_dir (where ~save writes the run folder; also written at
 //   shutdown when set and not saved yet), save_map (true), sync_queue (10),
 //   frame_queue (1: frames waiting for SLAM; the oldest is dropped when a
 //   frame comes to a full queue, so 1 tracks the newest frame, as a live
@@ -27,6 +28,7 @@
 // Publishes (private): ~pose (geometry_msgs/PoseStamped), ~path
 //   (nav_msgs/Path), ~map_points (sensor_msgs/PointCloud2, latched, at each
 //   keyframe), ~dynamic_mask (sensor_msgs/Image mono8, modes with a filter),
+//   ~grid (nav_msgs/OccupancyGrid, latched: live_grid.h),
 //   and on /tf map_frame -> odom_frame or map_frame -> camera frame
 //   (tf_output.h, REP 105).
 // Services: ~save (std_srvs/Empty): ends the session and writes the run

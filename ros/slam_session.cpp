@@ -66,6 +66,8 @@ SlamSession::SlamSession(const SlamSessionOptions& options, const PinholeCamera&
   config_used_ = slamConfigYaml(loaded);
   const SlamConfig cfg = configForMode(loaded, options.mode, options.localize);
   slam_ = std::make_unique<SlamSystem>(cfg, camera_);
+  dense_ = cfg.map_export;
+  occupancy_ = cfg.occupancy_map;
   if (!options.map_path.empty())
     loaded_map_ = std::make_unique<LoadedMapReport>(
         loadMapMeasured(*slam_, options.map_path, options.localize));
@@ -99,6 +101,24 @@ FrameOutcome SlamSession::process(const RGBDFrame& frame) {
   ++counts_.processed;
   if (out.track.has_pose) ++counts_.tracked;
   return out;
+}
+
+GridInputs SlamSession::gridInputs() const {
+  GridInputs in{camera_, dense_, occupancy_, {}};
+  const Trajectory poses = [&] {
+    std::lock_guard<std::mutex> lock(slam_->map().mutex());
+    return slam_->keyFrameTrajectory();
+  }();
+  const auto& masks = record_->keyFrameMaskList();
+  std::size_t f = 0, m = 0;
+  for (const StampedPose& p : poses) {  // all three in time order
+    while (f < keyframe_frames_.size() && keyframe_frames_[f].timestamp < p.timestamp) ++f;
+    if (f == keyframe_frames_.size() || keyframe_frames_[f].timestamp != p.timestamp) continue;
+    while (m < masks.size() && masks[m].first < p.timestamp) ++m;
+    const bool masked = m < masks.size() && masks[m].first == p.timestamp;
+    in.keyframes.push_back({keyframe_frames_[f], p.pose, masked ? masks[m].second : cv::Mat()});
+  }
+  return in;
 }
 
 void SlamSession::addDropped(std::size_t n) {

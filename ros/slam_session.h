@@ -16,6 +16,7 @@
 
 #include "core/dynamic_mode.h"
 #include "core/rgbd_frame.h"
+#include "occupancy/navigation_grid.h"
 #include "system/slam_system.h"
 
 namespace dynslam {
@@ -37,6 +38,14 @@ struct SlamSessionOptions {
   /// With map_path: track in it and add nothing (`run --map --localize`);
   /// the saved run then has no map.dsm.
   bool localize = false;
+};
+
+/// What the live navigation grid is built from (buildNavigationGrid).
+struct GridInputs {
+  PinholeCamera camera;
+  DenseMapOptions dense;
+  OccupancyMapOptions occupancy;
+  std::vector<GridKeyframe> keyframes;  ///< current poses, time order
 };
 
 struct SessionCounts {
@@ -73,6 +82,11 @@ class SlamSession {
   cv::Mat lastMask() const;
 
   SessionCounts counts() const;
+  /// The keyframes as they are now (poses under the map's lock, images and
+  /// dynamic masks shared, not copied) with the config's map_export and
+  /// occupancy_map options: what `dynslam export RUN/map.yaml` reads of the
+  /// saved run. Not while process() runs.
+  GridInputs gridInputs() const;
   /// The camera the session started with (every frame must have it).
   const PinholeCamera& camera() const { return camera_; }
   const SlamSystem& slam() const { return *slam_; }
@@ -98,6 +112,8 @@ class SlamSession {
   std::unique_ptr<DynamicFeatureFilter> filter_;
   std::unique_ptr<RunRecorder> record_;
   std::unique_ptr<LoadedMapReport> loaded_map_;  ///< with options_.map_path
+  DenseMapOptions dense_;
+  OccupancyMapOptions occupancy_;
   std::vector<RGBDFrame> keyframe_frames_;  ///< frames that made a keyframe
   SessionCounts counts_;
   std::map<std::string, std::size_t> refused_;

@@ -11,6 +11,7 @@
 #include "mapexport/dense_map_config.h"
 #include "mapexport/run_keyframes.h"
 #include "occupancy/map_server_io.h"
+#include "occupancy/navigation_grid.h"
 #include "occupancy/octomap_file.h"
 
 namespace dynslam {
@@ -24,19 +25,6 @@ std::string lowerExtension(const std::string& path) {
   std::transform(ext.begin(), ext.end(), ext.begin(),
                  [](unsigned char c) { return char(std::tolower(c)); });
   return ext;
-}
-
-/// Up and floor from the map's surface points (one per occupied cell).
-LevelFrame levelFrameOf(const ColoredCloud& surface, const UpEstimate& up,
-                        const OccupancyMapOptions& o) {
-  LevelFrame level;
-  level.R = levelRotation(up.up);
-  std::vector<double> heights;
-  heights.reserve(surface.size());
-  for (const auto& p : surface)
-    heights.push_back(level.R.row(2).dot(Eigen::Vector3d(p.x, p.y, p.z)));
-  estimateFloor(heights, o.resolution, o.floor_min_area, level);
-  return level;
 }
 
 void writeReport(const std::string& path, const RunDirectory& run, const FrameSource& source,
@@ -162,19 +150,13 @@ OccupancyExportResult exportOccupancyRun(const RunDirectory& run, const FrameSou
   r.cells = countCells(tree);
 
   t = SteadyClock::now();
-  MapData sample;
-  sample.points = builder.surfacePoints();
-  sample.keyframes = run.keyframes;
-  r.up = estimateMapUp(sample);
-  r.level = levelFrameOf(builder.surfacePoints(), r.up, options);
-  r.phases["up_and_floor"] = secondsSince(t);
+  NavigationGrid nav = gridOfBuiltMap(builder, run.keyframes, options, &r.up);
+  r.level = nav.level;
+  r.phases["up_and_floor_and_grid"] = secondsSince(t);
 
   t = SteadyClock::now();
   if (grid_output) {
-    r.grid = projectToGrid(tree, r.level,
-                           GridBand{options.grid_floor_height, options.grid_robot_height});
-    r.phases["grid"] = secondsSince(t);
-    t = SteadyClock::now();
+    r.grid = std::move(nav.grid);
     writeMapServerFiles(out_path, *r.grid, r.level);
   } else {
     writeOctoMapFile(out_path, tree);

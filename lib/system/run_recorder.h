@@ -51,6 +51,10 @@ class RunRecorder {
   /// flagged / keypoints (0 without keypoints).
   double flaggedFraction() const { return keypoints_ ? double(flagged_) / keypoints_ : 0.0; }
   std::size_t keyFrameMasks() const { return keyframe_masks_.size(); }
+  /// The keyframe masks kept (timestamp, mask), in the order they came.
+  const std::vector<std::pair<double, cv::Mat>>& keyFrameMaskList() const {
+    return keyframe_masks_;
+  }
   const std::vector<double>& readMs() const { return read_ms_; }
 
   /// frame_times.txt: a header line, then "timestamp track_ms frame_total_ms"

@@ -159,7 +159,8 @@ TEST_F(Installed, RvizDemoIsInstalledWithItsLaunchFile) {
     EXPECT_TRUE(has(r.out, node)) << node << " not in: " << r.out << r.err;
   // The rviz view shows the node's topics.
   const std::string rviz = readText(share + "/rviz/dynslam.rviz");
-  for (const char* topic : {"/dynslam/path", "/dynslam/map_points", "/dynslam/dynamic_mask"})
+  for (const char* topic :
+       {"/dynslam/path", "/dynslam/map_points", "/dynslam/grid", "/dynslam/dynamic_mask"})
     EXPECT_TRUE(has(rviz, topic)) << topic;
   EXPECT_NO_THROW(mrpt::containers::yaml::FromFile(share + "/rviz/dynslam.rviz"));
 }

@@ -7,17 +7,20 @@
 #include <rosbag/bag.h>
 #include <rosbag/view.h>
 #include <sensor_msgs/Image.h>
+#include <nav_msgs/OccupancyGrid.h>
 #include <sensor_msgs/PointCloud2.h>
 #include <tf2/buffer_core.h>
 #include <tf2_msgs/TFMessage.h>
 
 #include <mrpt/poses/CPose3DQuat.h>
+#include <opencv2/imgcodecs.hpp>
 #include <mrpt/poses/Lie/SO.h>
 
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <map>
 #include <set>
 
@@ -45,6 +48,9 @@ constexpr double kNodeAteFactor = 1.1;
 constexpr double kSameAteM = 0.001;
 /// Frames a node localising in a saved map of the same scene must track (issue 64).
 constexpr double kLocalisedShare = 0.95;
+/// Share of the live grid's cells that may differ from the export of the
+/// saved run (its poses rounded to 7 decimals in keyframes.txt).
+constexpr double kGridCellsThatMayDiffer = 0.001;
 /// map -> camera through TF against ~pose (issue 64): 1 mm, 0.1 degree.
 constexpr double kTfToleranceM = 0.001;
 constexpr double kTfToleranceDeg = 0.1;
@@ -173,13 +179,18 @@ struct Recorded {
   std::size_t clouds = 0, cloud_points = 0, masks = 0, mask_pixels_ok = 0;
   /// Every transform on /tf and /tf_static (the bag's and the node's).
   std::vector<geometry_msgs::TransformStamped> tf, tf_static;
+  std::size_t grids = 0;
+  std::optional<nav_msgs::OccupancyGrid> last_grid;
 };
 
 Recorded readRecording(const std::string& path) {
   Recorded r;
   rosbag::Bag bag(path, rosbag::bagmode::Read);
   for (const rosbag::MessageInstance& m : rosbag::View(bag)) {
-    if (const auto t = m.instantiate<tf2_msgs::TFMessage>()) {
+    if (const auto g = m.instantiate<nav_msgs::OccupancyGrid>()) {
+      ++r.grids;
+      r.last_grid = *g;
+    } else if (const auto t = m.instantiate<tf2_msgs::TFMessage>()) {
       auto& into = m.getTopic() == "/tf_static" ? r.tf_static : r.tf;
       into.insert(into.end(), t->transforms.begin(), t->transforms.end());
     } else if (const auto p = m.instantiate<geometry_msgs::PoseStamped>()) {
@@ -232,7 +243,7 @@ NodeRun playThroughNode(const TempDir& tmp, const std::string& bag, const std::s
       << readText(tmp / "node.log");
   ChildProcess record("rosbag record -O " + shellQuote(tmp / "rec.bag") +
                           " /dynslam_node/pose /dynslam_node/map_points /dynslam_node/dynamic_mask"
-                          " /tf /tf_static",
+                          " /tf /tf_static /dynslam_node/grid",
                       tmp / "record.log");
   EXPECT_TRUE(waitForOutput("rostopic info /dynslam_node/pose", "/record", kRosTimeout));
 
@@ -452,6 +463,46 @@ TEST(NodeIntegration, LocalisesInASavedMapAndLeavesItUnchanged) {
   EXPECT_FALSE(fs::exists(localising_tmp / "run/map.dsm"));
   const cv::FileStorage report = openRunReport(localising_tmp / "run");
   EXPECT_EQ(static_cast<int>(report["loaded_map"]["unchanged"]), 1);
+}
+
+TEST(NodeIntegration, LiveGridIsPublishedAndEndsAsTheExportOfTheSavedRun) {
+  // A robot plans on ~grid while it moves; after ~save the last grid is the
+  // one `dynslam export RUN/map.yaml` makes of the saved run.
+  const TempDir tmp;
+  const NodeRun r = playThroughNode(tmp, cachedBag("tum32f", {}), kNodeMode, kPlayRate,
+                                    std::string(kQueueEveryFrame) + " _grid_period_s:=1");
+  expectEveryFrameAccountedFor(r, kAcceptanceFrames);
+  // Rebuilt while the bag played (5 s at 30 Hz), and once more at the save.
+  EXPECT_GE(r.rec.grids, 2u);
+  ASSERT_TRUE(r.rec.last_grid);
+  const nav_msgs::OccupancyGrid& live = *r.rec.last_grid;
+  EXPECT_EQ(live.header.frame_id, "map");
+
+  const SplitCommandResult exp =
+      runDynslamSplit({"export", tmp / "run", "-o", tmp / "grid/map.yaml"});
+  ASSERT_EQ(exp.exit_code, 0) << exp.err;
+  const cv::Mat pgm = cv::imread(tmp / "grid/map.pgm", cv::IMREAD_UNCHANGED);
+  ASSERT_EQ(pgm.type(), CV_8UC1);
+  // The saved run's keyframes.txt holds the poses to 7 decimals: a ray that
+  // ends within 1e-7 m of a cell border may fall on the other side, so a few
+  // cells may differ; the grid's size and nearly every cell must agree.
+  ASSERT_EQ(static_cast<int>(live.info.width), pgm.cols);
+  ASSERT_EQ(static_cast<int>(live.info.height), pgm.rows);
+  std::size_t differ = 0, occupied = 0;
+  for (int y = 0; y < pgm.rows; ++y)
+    for (int x = 0; x < pgm.cols; ++x) {
+      // map_server's PGM: occupied 0, free 254, unknown 205; its top row is
+      // the grid's last.
+      const uint8_t v = pgm.at<uint8_t>(pgm.rows - 1 - y, x);
+      const int8_t expected = v == 0 ? 100 : v == 254 ? 0 : -1;
+      const int8_t cell = live.data[std::size_t(y) * live.info.width + x];
+      differ += cell != expected;
+      occupied += cell == 100;
+    }
+  std::printf("live grid %ux%u, %zu occupied cells, %zu differ from the export\n",
+              live.info.width, live.info.height, occupied, differ);
+  EXPECT_GT(occupied, 0u);
+  EXPECT_LE(differ, kGridCellsThatMayDiffer * live.data.size());
 }
 
 TEST(NodeIntegration, GapsInTheRgbSequenceNumbersAreCountedAsLostInTransport) {

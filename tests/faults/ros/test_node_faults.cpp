@@ -80,6 +80,11 @@ TEST(NodeParams, EveryParameterIsCheckedWithTheClisRules) {
             std::string::npos);
   EXPECT_NE(refusalOf({{"save_map", XmlRpc::XmlRpcValue("yes")}}).find("~save_map"),
             std::string::npos);
+  EXPECT_NE(refusalOf({{"grid_period_s", XmlRpc::XmlRpcValue(-1.0)}}).find("~grid_period_s"),
+            std::string::npos);
+  EXPECT_NE(refusalOf({{"grid_period_s", XmlRpc::XmlRpcValue("often")}}).find("~grid_period_s"),
+            std::string::npos);
+  EXPECT_EQ(refusalOf({{"grid_period_s", XmlRpc::XmlRpcValue(0)}}), "");
   EXPECT_NE(refusalOf({{"mode", XmlRpc::XmlRpcValue("fast")}}).find("~mode fast"),
             std::string::npos);
   // An unknown name (a typo) is refused, naming it.
