@@ -8,6 +8,7 @@
 #include "core/errors.h"
 #include "core/run_layout.h"
 #include "core/staged_folder.h"
+#include "core/yaml_writer.h"
 #include "rawlog/bag_source.h"
 #include "system/system_config.h"
 
@@ -44,8 +45,8 @@ class ParamReader {
     const double x = v->getType() == Value::TypeInt ? static_cast<int>(Value(*v))
                                                    : static_cast<double>(Value(*v));
     if (!(x >= lo && x <= hi))
-      throw UsageError("~" + name + " " + Value(*v).toXml() + " is outside [" +
-                       std::to_string(lo) + ", " + std::to_string(hi) + "]");
+      throw UsageError("~" + name + " " + shown(*v) + " is outside [" + exactNumberText(lo) +
+                       ", " + exactNumberText(hi) + "]");
     return x;
   }
   int count(const std::string& name, int fallback, int lo, int hi) const {
@@ -68,8 +69,19 @@ class ParamReader {
   }
   [[noreturn]] static void refuse(const std::string& name, const Value& v,
                                   const std::string& expected) {
-    std::string shown = Value(v).toXml();
-    throw UsageError("~" + name + " must be " + expected + ", not " + typeName(v) + " " + shown);
+    throw UsageError("~" + name + " must be " + expected + ", not " + typeName(v) + " " +
+                     shown(v));
+  }
+  /// The value as rosparam was given it (not XML-RPC's markup), for messages.
+  static std::string shown(const Value& v) {
+    Value copy(v);
+    switch (v.getType()) {
+      case Value::TypeBoolean: return static_cast<bool>(copy) ? "true" : "false";
+      case Value::TypeInt: return std::to_string(static_cast<int>(copy));
+      case Value::TypeDouble: return exactNumberText(static_cast<double>(copy));
+      case Value::TypeString: return "'" + static_cast<std::string>(copy) + "'";
+      default: return "";
+    }
   }
   static std::string typeName(const Value& v) {
     switch (v.getType()) {

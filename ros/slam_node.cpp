@@ -18,6 +18,7 @@
 #include <mutex>
 #include <optional>
 #include <thread>
+#include <type_traits>
 #include <variant>
 
 #include "core/errors.h"
@@ -173,17 +174,34 @@ struct SlamNode::Impl {
                                }));
   }
 
-  /// The synchroniser's callback: hands the messages over as they are (the
-  /// SLAM thread converts them), so the ROS thread keeps up at any rate.
-  void onFrame(const ImageMsg::ConstPtr& rgb, const ImageMsg::ConstPtr& depth,
-               const InfoMsg::ConstPtr& info) {
+  /// The synchroniser's callback for RGB messages of type M.
+  template <class M>
+  void onPaired(const boost::shared_ptr<M const>& rgb, const ImageMsg::ConstPtr& depth,
+                const InfoMsg::ConstPtr& info) {
     ++synced;
-    queue->put({rgb, nullptr, depth, info});
+    PendingFrame f{nullptr, nullptr, depth, info};
+    if constexpr (std::is_same_v<M, CompressedMsg>)
+      f.rgb_compressed = rgb;
+    else
+      f.rgb = rgb;
+    queue->put(std::move(f));
   }
-  void onCompressedFrame(const CompressedMsg::ConstPtr& rgb, const ImageMsg::ConstPtr& depth,
-                         const InfoMsg::ConstPtr& info) {
-    ++synced;
-    queue->put({nullptr, rgb, depth, info});
+
+  /// Makes `pairing` for RGB messages of type M (Image or CompressedImage)
+  /// and subscribes the RGB topic to it. Its callback hands the messages over
+  /// as they are (the SLAM thread converts them), so the ROS thread keeps up
+  /// at any rate.
+  template <class M>
+  void subscribeRgb(ros::NodeHandle& nh, std::unique_ptr<FramePairing<M>>& pairing,
+                    uint32_t queue_size) {
+    pairing = std::make_unique<FramePairing<M>>(PairingPolicy<M>(queue_size));
+    pairing->registerCallback(&Impl::onPaired<M>, this);
+    FramePairing<M>* paired = pairing.get();
+    rgb_sub = nh.subscribe<M>(p.rgbSubscription(), queue_size,
+                              boost::function<void(const ros::MessageEvent<M const>&)>(
+                                  [this, paired](const ros::MessageEvent<M const>& e) {
+                                    onRgb(e, *paired);
+                                  }));
   }
 
   /// The frame and camera of a message triple, or why it cannot be used: an
@@ -410,27 +428,10 @@ SlamNode::SlamNode(ros::NodeHandle& nh, ros::NodeHandle& pnh, const NodeParams& 
                                             impl_->checkTopicTypes();
                                           });
   const auto queue = static_cast<uint32_t>(d.p.sync_queue);
-  if (d.p.rgb_transport == kCompressedTransport) {
-    d.compressed_pairing = std::make_unique<FramePairing<CompressedMsg>>(
-        PairingPolicy<CompressedMsg>(queue));
-    d.compressed_pairing->registerCallback(&Impl::onCompressedFrame, &d);
-    d.rgb_sub = nh.subscribe<CompressedMsg>(
-        d.p.rgbSubscription(), queue,
-        boost::function<void(const ros::MessageEvent<CompressedMsg const>&)>(
-            [this](const ros::MessageEvent<CompressedMsg const>& e) {
-              impl_->onRgb(e, *impl_->compressed_pairing);
-            }));
-  } else {
-    d.raw_pairing =
-        std::make_unique<FramePairing<ImageMsg>>(PairingPolicy<ImageMsg>(queue));
-    d.raw_pairing->registerCallback(&Impl::onFrame, &d);
-    d.rgb_sub = nh.subscribe<ImageMsg>(
-        d.p.rgb_topic, queue,
-        boost::function<void(const ros::MessageEvent<ImageMsg const>&)>(
-            [this](const ros::MessageEvent<ImageMsg const>& e) {
-              impl_->onRgb(e, *impl_->raw_pairing);
-            }));
-  }
+  if (d.p.rgb_transport == kCompressedTransport)
+    d.subscribeRgb(nh, d.compressed_pairing, queue);
+  else
+    d.subscribeRgb(nh, d.raw_pairing, queue);
   d.depth_sub = d.subscribePartner<1, ImageMsg>(nh, d.p.depth_topic, queue, d.depth_stamps);
   d.info_sub = d.subscribePartner<2, InfoMsg>(nh, d.p.camera_info_topic, queue, d.info_stamps);
 }

@@ -20,18 +20,18 @@ LevelFrame levelFrameOf(const ColoredCloud& surface, const UpEstimate& up,
 }
 }  // namespace
 
-NavigationGrid gridOfBuiltMap(const OccupancyMapBuilder& builder, const Trajectory& keyframes,
-                              const OccupancyMapOptions& options, UpEstimate* up_out) {
+LevelFrame levelOfBuiltMap(const OccupancyMapBuilder& builder, const Trajectory& keyframes,
+                           const OccupancyMapOptions& options, UpEstimate* up_out) {
   MapData sample;
   sample.points = builder.surfacePoints();
   sample.keyframes = keyframes;
   const UpEstimate up = estimateMapUp(sample);
   if (up_out) *up_out = up;
-  NavigationGrid g;
-  g.level = levelFrameOf(builder.surfacePoints(), up, options);
-  g.grid = projectToGrid(builder.tree(), g.level,
-                         GridBand{options.grid_floor_height, options.grid_robot_height});
-  return g;
+  return levelFrameOf(builder.surfacePoints(), up, options);
+}
+
+GridBand gridBandOf(const OccupancyMapOptions& options) {
+  return GridBand{options.grid_floor_height, options.grid_robot_height};
 }
 
 NavigationGrid buildNavigationGrid(const PinholeCamera& camera,
@@ -45,7 +45,10 @@ NavigationGrid buildNavigationGrid(const PinholeCamera& camera,
     poses.push_back({k.frame.timestamp, k.pose_wc});
   }
   builder.build();
-  return gridOfBuiltMap(builder, poses, options);
+  NavigationGrid g;
+  g.level = levelOfBuiltMap(builder, poses, options);
+  g.grid = projectToGrid(builder.tree(), g.level, gridBandOf(options));
+  return g;
 }
 
 }  // namespace dynslam

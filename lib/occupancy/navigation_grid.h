@@ -34,11 +34,14 @@ struct NavigationGrid {
   LevelFrame level;  ///< the grid's plane in the map frame
 };
 
-/// The level frame of a built map (up from its surface and the keyframes,
-/// floor from its surface) and the grid of the band above that floor: the
-/// part `export MAP.yaml` and the live grid share.
-NavigationGrid gridOfBuiltMap(const OccupancyMapBuilder& builder, const Trajectory& keyframes,
-                              const OccupancyMapOptions& options, UpEstimate* up = nullptr);
+/// The level frame of a built map: up from its surface and the keyframes,
+/// floor from its surface. What `export MAP.yaml` and the live grid share;
+/// the grid is projectToGrid of the band above it.
+LevelFrame levelOfBuiltMap(const OccupancyMapBuilder& builder, const Trajectory& keyframes,
+                           const OccupancyMapOptions& options, UpEstimate* up = nullptr);
+
+/// The band of `options` (grid_floor_height .. grid_robot_height).
+GridBand gridBandOf(const OccupancyMapOptions& options);
 
 /// The grid of `keyframes` (time order).
 NavigationGrid buildNavigationGrid(const PinholeCamera& camera,

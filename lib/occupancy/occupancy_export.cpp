@@ -150,13 +150,14 @@ OccupancyExportResult exportOccupancyRun(const RunDirectory& run, const FrameSou
   r.cells = countCells(tree);
 
   t = SteadyClock::now();
-  NavigationGrid nav = gridOfBuiltMap(builder, run.keyframes, options, &r.up);
-  r.level = nav.level;
-  r.phases["up_and_floor_and_grid"] = secondsSince(t);
+  r.level = levelOfBuiltMap(builder, run.keyframes, options, &r.up);
+  r.phases["up_and_floor"] = secondsSince(t);
 
   t = SteadyClock::now();
   if (grid_output) {
-    r.grid = std::move(nav.grid);
+    r.grid = projectToGrid(tree, r.level, gridBandOf(options));
+    r.phases["grid"] = secondsSince(t);
+    t = SteadyClock::now();
     writeMapServerFiles(out_path, *r.grid, r.level);
   } else {
     writeOctoMapFile(out_path, tree);
