@@ -2,7 +2,9 @@
 
 #include <cstdio>
 
+#include "bench/evidence_plots.h"
 #include "bench/trajectory_plots.h"
+#include "core/json_reader.h"
 #include "core/png_file.h"
 #include "core/run_layout.h"
 #include "core/trajectory.h"
@@ -44,6 +46,14 @@ void writeBenchPlots(BenchReport& report, const std::string& out_dir,
       writePngAtomically(out_dir + "/" + rel + "frame_times.png",
                          plotFrameTimes(run->times, label + ": time per frame"), kPlotCompression);
       report.addPlot(m.sequence, m.mode, rel + "frame_times.png");
+      // The cue measures, when the run scored its keypoints against true masks.
+      if (const auto evidence = readCueEvidence(readTextFile(RunLayout{run->dir}.report()))) {
+        writePngAtomically(out_dir + "/" + rel + "cue_evidence.png",
+                           CueEvidencePlot(*evidence).render(
+                               label + ": cue measures on static and walker keypoints"),
+                           kPlotCompression);
+        report.addPlot(m.sequence, m.mode, rel + "cue_evidence.png");
+      }
     } catch (const std::exception& e) {
       if (progress) progress("plot of " + label + " failed: " + e.what());
     }

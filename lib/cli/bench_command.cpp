@@ -92,7 +92,8 @@ int benchMain(int argc, char** argv) {
   TCLAP::SwitchArg plots_arg(
       "", "plots",
       "also draw, per sequence and mode, the median run's trajectory (top view coloured by ATE "
-      "error, x/y/z against time) and its per-frame times as PNGs",
+      "error, x/y/z against time), its per-frame times and, on a sequence with true "
+      "masks, each cue's measures on static and walker keypoints as PNGs",
       cmd);
   int exit_code = kOk;
   if (!parseArguments(cmd, argc, argv, exit_code)) return exit_code;

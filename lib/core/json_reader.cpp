@@ -90,15 +90,19 @@ class JsonPathScanner {
   bool members(char close, bool keyed, std::size_t depth, std::string& out) {
     ++i_;
     if (peek() == close) return ++i_, false;
-    for (;;) {
-      std::size_t next = kOffPath;
+    for (std::size_t index = 0;; ++index) {
+      // An object member by its key, an array element by its index ("a.0").
+      const bool on_path = depth != kOffPath && depth < path_.size();
+      std::string key;
       if (keyed) {
-        const std::string key = string();
+        key = string();
         expect(':');
-        const bool on = depth != kOffPath && depth < path_.size() && key == path_[depth];
-        if (on && depth + 1 == path_.size()) return found(out);
-        if (on) next = depth + 1;
+      } else if (on_path) {
+        key = std::to_string(index);
       }
+      const bool on = on_path && key == path_[depth];
+      if (on && depth + 1 == path_.size()) return found(out);
+      std::size_t next = on ? depth + 1 : kOffPath;
       if (value(next, out)) return true;
       if (peek() != ',') break;
       ++i_;

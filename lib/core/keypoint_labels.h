@@ -5,6 +5,7 @@
 // "may it make a map point" are different questions: a keypoint nothing has
 // judged yet (something that just came into view) can be matched against
 // the map, which judges it, but must not enter the map before it is judged.
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -17,8 +18,9 @@ enum class KeypointLabel : uint8_t {
   kUnsure = 2,  ///< tracking may match it to map points; no map point is made from it
 };
 
-/// The cues a label is made from, one bit each (KeypointLabels::cues): what
-/// the dynamic stage saw at a keypoint, kept for counts and debugging.
+/// The cues a label is made from, one bit each (CueMeasures::bits): what
+/// the dynamic stage saw at a keypoint. Each cue also measures how far its
+/// evidence goes (CueMeasures), in its own physical unit.
 namespace cue {
 enum : uint16_t {
   kBox = 1u << 0,           ///< a detector box's surface (at the object's depth)
@@ -30,23 +32,55 @@ enum : uint16_t {
   kMovedSpace = 1u << 6,    ///< in space seen moving lately
   kVetoed = 1u << 7,        ///< a judgement the map overruled saw it moving
   kMapInlier = 1u << 8,     ///< matched to a map point under the tracked pose
+  kStaticTrack = 1u << 9,   ///< at a track the judgement found static
 };
-constexpr int kCount = 9;
+constexpr int kCount = 10;
 /// Short names, in bit order (report.json keys).
 inline const char* name(int bit) {
   static const char* const kNames[kCount] = {"box",         "region",        "moving_track",
                                              "dense_flow",  "covered_track", "beside_moving",
-                                             "moved_space", "vetoed",        "map_inlier"};
+                                             "moved_space", "vetoed",        "map_inlier",
+                                             "static_track"};
   return bit >= 0 && bit < kCount ? kNames[bit] : "?";
 }
 }  // namespace cue
 
+/// What each cue measured at one keypoint; 0 = the cue is absent. The
+/// graded cues measure in units of their own test, so 1 is where the cue
+/// starts and more is stronger evidence:
+///   box           the detection's score / the detector's conf_threshold
+///   region        the region's share of moving tracks / region_min_dynamic_ratio
+///   moving_track  the track's residual / the frame's threshold for it
+///                 (1 for a track carried as moving)
+///   dense_flow    the dense flow's residual / its threshold
+///   map_inlier    keyframes observing the matched map point
+///   static_track  the track's threshold / its residual (how far inside
+///                 its tests it stayed)
+/// The doubt cues (covered_track, beside_moving, moved_space, vetoed) are 1.
+struct CueMeasures {
+  std::array<float, cue::kCount> x{};
+
+  /// Keeps the larger measure of cue `bit` (a cue:: value).
+  void add(uint16_t bit, float measure = 1.f) {
+    float& v = x[std::size_t(__builtin_ctz(bit))];
+    if (measure > v) v = measure;
+  }
+  float of(uint16_t bit) const { return x[std::size_t(__builtin_ctz(bit))]; }
+  bool has(uint16_t bits) const { return (this->bits() & bits) != 0; }
+  uint16_t bits() const {
+    uint16_t b = 0;
+    for (int i = 0; i < cue::kCount; ++i)
+      if (x[std::size_t(i)] > 0) b = uint16_t(b | (1u << i));
+    return b;
+  }
+};
+
 struct KeypointLabels {
   std::vector<KeypointLabel> label;  ///< one per keypoint
-  std::vector<uint16_t> cues;        ///< one per keypoint (cue:: bits); may be empty
+  std::vector<CueMeasures> cues;     ///< one per keypoint; may be empty
 
   KeypointLabels() = default;
-  explicit KeypointLabels(std::size_t n) : label(n, KeypointLabel::kStatic), cues(n, 0) {}
+  explicit KeypointLabels(std::size_t n) : label(n, KeypointLabel::kStatic), cues(n) {}
   std::size_t size() const { return label.size(); }
   bool moving(std::size_t i) const { return label[i] == KeypointLabel::kMoving; }
   bool unsure(std::size_t i) const { return label[i] == KeypointLabel::kUnsure; }

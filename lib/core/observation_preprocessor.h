@@ -32,8 +32,9 @@ struct TrackedPose {
   /// it since it was tracked).
   bool has_last_pose = false;
   cv::Matx44d last_pose_wc = cv::Matx44d::eye();
-  /// One per keypoint: 1 = matched to a map point and consistent with the
-  /// pose (the map's evidence that the keypoint is static).
+  /// One per keypoint: matched to a map point and consistent with the pose
+  /// (the map's evidence that the keypoint is static), as the number of
+  /// keyframes observing that point (up to 255); 0 = not a map inlier.
   std::vector<uint8_t> map_inliers;
 };
 

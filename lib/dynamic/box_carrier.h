@@ -73,7 +73,6 @@ class BoxCarrier {
   };
   ConfirmedSplit boxesSplitAt(long frame) const;
   const std::vector<CarriedBox>& carried() const { return boxes_; }
-  long currentFrame() const { return current_; }
 
   /// Median of to - from over the points whose `from` lies in `region`
   /// (Rect2f); `fallback` when fewer than min_points.

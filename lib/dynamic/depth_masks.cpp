@@ -72,7 +72,8 @@ float BoxDepthMasker::objectDepth(const cv::Mat& depth, double depth_scale,
 cv::Mat BoxDepthMasker::computeFromBoxes(const cv::Mat& depth, double depth_scale,
                                          const std::vector<Detection>& boxes,
                                          std::vector<float>* object_depths_m,
-                                         const std::vector<float>* depth_hints_m) const {
+                                         const std::vector<float>* depth_hints_m,
+                                         const std::vector<uint8_t>* values) const {
   CV_Assert(depth.type() == CV_16UC1 && depth_scale > 0);
   if (depth_hints_m && depth_hints_m->size() != boxes.size())
     throw std::invalid_argument("BoxDepthMasker: one depth hint per box expected");
@@ -96,6 +97,7 @@ cv::Mat BoxDepthMasker::computeFromBoxes(const cv::Mat& depth, double depth_scal
     const double lo = std::max(1.0, (z - params_.depth_band_m) * depth_scale);
     const double hi = (z + params_.depth_band_m) * depth_scale;
     const cv::Mat roi = depth(box);
+    const uint8_t value = values ? (*values)[i] : uint8_t(255);
     cv::Mat band(box.size(), CV_8U, cv::Scalar(0));
     for (int y = 0; y < box.height; ++y) {
       const uint16_t* row = roi.ptr<uint16_t>(y);
@@ -104,7 +106,9 @@ cv::Mat BoxDepthMasker::computeFromBoxes(const cv::Mat& depth, double depth_scal
         if (row[x] >= lo && row[x] <= hi) m[x] = 255;
     }
     if (params_.connected_step > 0) keepObjectComponents(roi, band);
-    mask(box) |= band;
+    if (value != 255) band.setTo(value, band);
+    cv::Mat dst = mask(box);
+    cv::max(dst, band, dst);
   }
   return mask;
 }
@@ -163,7 +167,6 @@ int DepthRegionGrower::growRegions(const cv::Mat& depth, double depth_scale,
   labels_.create(depth.size(), CV_32S);
   labels_.setTo(0);
   seed_count_.assign(1, 0);
-  no_depth_seeds_.clear();
   int* labels = labels_.ptr<int>();
   const uint16_t* d = depth.ptr<uint16_t>();
   const std::size_t step = depth.step1();
@@ -180,10 +183,7 @@ int DepthRegionGrower::growRegions(const cv::Mat& depth, double depth_scale,
       continue;
     }
     const float z0 = d[sy * step + sx];
-    if (z0 <= 0) {
-      no_depth_seeds_.emplace_back(sx, sy);
-      continue;
-    }
+    if (z0 <= 0) continue;
     cv::Rect lim = img;
     if (limits && !(*limits)[s].empty()) lim = (*limits)[s] & img;
     if (!lim.contains(cv::Point(sx, sy))) lim = img;
@@ -230,21 +230,8 @@ cv::Mat DepthRegionGrower::maskOf(const std::vector<uint8_t>& keep) const {
     const int* lr = labels_.ptr<int>(y);
     uint8_t* m = mask.ptr<uint8_t>(y);
     for (int x = 0; x < labels_.cols; ++x)
-      if (lr[x] && keep[lr[x]]) m[x] = 255;
+      if (lr[x]) m[x] = keep[lr[x]];
   }
-  return mask;
-}
-
-cv::Mat DepthRegionGrower::grow(const cv::Mat& depth, double depth_scale,
-                                const std::vector<cv::Point2f>& seeds,
-                                const std::vector<cv::Rect>* limits) {
-  const int n = growRegions(depth, depth_scale, seeds, limits);
-  std::vector<uint8_t> keep(n + 1, 0);
-  for (int l = 1; l <= n; ++l) keep[l] = seed_count_[l] >= params_.min_seeds;
-  cv::Mat mask = maskOf(keep);
-  if (params_.no_depth_radius > 0)
-    for (const auto& p : no_depth_seeds_)
-      cv::circle(mask, p, params_.no_depth_radius, cv::Scalar(255), cv::FILLED);
   return mask;
 }
 

@@ -20,6 +20,13 @@
 
 namespace dynslam {
 
+/// Evidence images: 8-bit masks whose non-zero pixels hold a cue's measure
+/// (CueMeasures, >= 1) in steps of 1/32, up to 7.97.
+inline uint8_t measurePixel(double x) {
+  return uint8_t(x >= 255.0 / 32 ? 255 : x * 32 < 32 ? 32 : int(x * 32 + 0.5));
+}
+inline float measureOfPixel(uint8_t v) { return float(v) / 32.f; }
+
 struct BoxDepthParams {
   /// Central part of the box (fraction of width and height) whose depths vote
   /// for the object depth: the centre is mostly person, the rim mostly background.
@@ -52,11 +59,14 @@ class BoxDepthMasker {
   /// depth_hints_m (optional, one per box): object depth (m) known from
   /// elsewhere (e.g. the moving points inside the box), used instead of the
   /// histogram where > 0: the histogram's nearest peak is the occluder when
-  /// a person walks behind a monitor or desk.
+  /// a person walks behind a monitor or desk. values (optional, one per
+  /// box): the value of its pixels instead of 255 (the larger where boxes
+  /// overlap; an evidence image).
   cv::Mat computeFromBoxes(const cv::Mat& depth, double depth_scale,
                            const std::vector<Detection>& boxes,
                            std::vector<float>* object_depths_m = nullptr,
-                           const std::vector<float>* depth_hints_m = nullptr) const;
+                           const std::vector<float>* depth_hints_m = nullptr,
+                           const std::vector<uint8_t>* values = nullptr) const;
 
   /// Dominant (nearest strong) depth in metres of the central part of `box`,
   /// 0 when there is no valid depth there.
@@ -84,9 +94,6 @@ struct RegionGrowParams {
   int min_seeds = 2;
   /// Upper bound on one region's size (fraction of the image): growth stops there.
   float max_region_fraction = 0.25f;
-  /// grow(): seeds without depth are marked as a disc of this radius (px);
-  /// 0 = not at all.
-  int no_depth_radius = 0;
 };
 
 /// Flood fill over depth from seed pixels. Keeps its buffers between calls
@@ -95,16 +102,12 @@ class DepthRegionGrower {
  public:
   explicit DepthRegionGrower(const RegionGrowParams& params = {}) : params_(params) {}
 
-  /// Returns the CV_8U mask (255 = in a region with >= min_seeds seeds).
-  /// `limits` (optional, same size as seeds) restricts the growth of seed i to
-  /// a rectangle (e.g. its detector box); an empty rect means the whole image.
-  cv::Mat grow(const cv::Mat& depth, double depth_scale, const std::vector<cv::Point2f>& seeds,
-               const std::vector<cv::Rect>* limits = nullptr);
-
-  /// The two steps of grow() for callers that decide themselves which
-  /// regions to keep: growRegions() labels the regions (1..N, 0 = none; see
-  /// labels()) and returns N; maskOf(keep) paints the regions with keep[l] != 0
-  /// (keep has N + 1 entries).
+  /// Two steps, so that the caller decides which regions to keep (the
+  /// motion check's vote, motion_mask.h): growRegions() labels the regions
+  /// (1..N, 0 = none; see labels()) and returns N; `limits` (optional, same
+  /// size as seeds) restricts the growth of seed i to a rectangle (e.g. its
+  /// detector box; empty = the whole image). maskOf(keep) paints the regions
+  /// with keep[l] != 0 (keep has N + 1 entries).
   int growRegions(const cv::Mat& depth, double depth_scale, const std::vector<cv::Point2f>& seeds,
                   const std::vector<cv::Rect>* limits = nullptr);
   const cv::Mat& labels() const { return labels_; }
@@ -112,6 +115,7 @@ class DepthRegionGrower {
   int labelAt(const cv::Point2f& p) const;
   /// Number of seeds that fell into each region in the last growRegions().
   const std::vector<int>& seedCounts() const { return seed_count_; }
+  /// keep[label]: the value of that region's pixels (0 = not kept).
   cv::Mat maskOf(const std::vector<uint8_t>& keep) const;
 
   const RegionGrowParams& params() const { return params_; }
@@ -121,7 +125,6 @@ class DepthRegionGrower {
   cv::Mat labels_;  // CV_32S region id per pixel, 0 = none
   std::vector<int> queue_;
   std::vector<int> seed_count_;  // per label, [0] unused
-  std::vector<cv::Point> no_depth_seeds_;
 };
 
 }  // namespace dynslam

@@ -53,34 +53,10 @@ std::vector<cv::Point2f> coveredTracksNow(const std::vector<cv::Point2f>& prev_p
   return now;
 }
 
-/// 1 for each keypoint within `radius` (px) of a covered track's position
-/// and farther than that from every tracked point: on something that came
-/// in front of what the previous frame tracked, which nothing has judged
-/// yet. (Where the previous frame had nothing - the edge the camera turns
-/// towards - or lost tracks to blur, keypoints stay judged.)
-std::vector<uint8_t> keypointsOnCoveredTracks(const std::vector<cv::KeyPoint>& keys,
-                                              const std::vector<cv::Point2f>& points,
-                                              const std::vector<uint8_t>& tracked,
-                                              const std::vector<cv::Point2f>& covered_now,
-                                              cv::Size size, double radius) {
-  cv::Mat near_tracked = cv::Mat::zeros(size, CV_8U), near_lost = cv::Mat::zeros(size, CV_8U);
-  const int r = std::max(1, int(std::lround(radius)));
-  for (std::size_t i = 0; i < points.size() && i < tracked.size(); ++i)
-    if (tracked[i]) cv::circle(near_tracked, points[i], r, cv::Scalar(255), cv::FILLED);
-  for (const cv::Point2f& q : covered_now) cv::circle(near_lost, q, r, cv::Scalar(255), cv::FILLED);
-  std::vector<uint8_t> out(keys.size(), 0);
-  for (std::size_t k = 0; k < keys.size(); ++k) {
-    const int u = cvRound(keys[k].pt.x), v = cvRound(keys[k].pt.y);
-    if (u < 0 || v < 0 || u >= size.width || v >= size.height) continue;
-    out[k] = near_lost.at<uint8_t>(v, u) && !near_tracked.at<uint8_t>(v, u);
-  }
-  return out;
-}
-
 // Share of the map's keypoints (map_inlier[i]) that `labels` labels
 // moving; NaN without any, so that every comparison with a bound is false.
 double mapInliersMoving(const std::vector<uint8_t>& map_inlier, const LabelPolicy& policy,
-                        const std::vector<uint16_t>& cues) {
+                        const std::vector<CueMeasures>& cues) {
   std::size_t inliers = 0, moving = 0;
   for (std::size_t i = 0; i < map_inlier.size() && i < cues.size(); ++i)
     if (map_inlier[i]) {
@@ -90,8 +66,7 @@ double mapInliersMoving(const std::vector<uint8_t>& map_inlier, const LabelPolic
   return inliers ? double(moving) / double(inliers) : std::nan("");
 }
 
-/// The motion cues: any of them alone labels a keypoint moving
-/// (LabelPolicy's defaults).
+/// The motion cues: the evidence that something moved at a keypoint.
 constexpr uint16_t kMotionCues = cue::kBox | cue::kRegion | cue::kMovingTrack | cue::kDenseFlow;
 
 /// A depth-backed camera point (z <= 0: none) in the world; non-finite
@@ -100,6 +75,23 @@ cv::Vec3d worldPoint(const cv::Matx44d& pose_wc, const cv::Point3f& X) {
   if (!(X.z > 0)) return cv::Vec3d(NAN, NAN, NAN);
   const cv::Matx33d R = pose_wc.get_minor<3, 3>(0, 0);
   return R * cv::Vec3d(X.x, X.y, X.z) + cv::Vec3d(pose_wc(0, 3), pose_wc(1, 3), pose_wc(2, 3));
+}
+
+/// The largest of geometry row k's residuals over their thresholds (> 1:
+/// it failed a test; NaN: no test ran).
+float testRatio(const GeometryResult& g, std::size_t k, float depth_tolerance) {
+  const bool has_rep = !std::isnan(g.reprojection_error[k]);
+  float x = has_rep ? g.reprojection_error[k] / g.reprojection_threshold
+                    : g.epipolar_error[k] / g.epipolar_threshold;
+  if (depth_tolerance > 0 && g.depth_error[k] > depth_tolerance * x)
+    x = g.depth_error[k] / depth_tolerance;
+  return x;
+}
+
+/// The moving_track measure of a moving geometry row: how far it failed.
+float motionMeasure(const GeometryResult& g, std::size_t k, float depth_tolerance) {
+  const float x = testRatio(g, k, depth_tolerance);
+  return std::isfinite(x) ? std::max(x, 1.f) : 1.f;
 }
 
 }  // namespace
@@ -240,7 +232,7 @@ cv::Mat DynamicFeatureFilter::prepare(const RGBDFrame& frame, const cv::Mat& gra
     if (!memory_.regions.empty()) pre.mask = warpedRegions(cur_points, tracked);
     for (std::size_t i = 0; i < tracked.size(); ++i)
       if (tracked[i] && memory_.track_age[i])
-        pre.addMoving(cur_points[i], int(memory_.track_age[i]) - 1);
+        pre.addMoving(cur_points[i], int(memory_.track_age[i]) - 1, 1.f);
   }
   t0 = SteadyClock::now();
   // Boxes arrive `interval` frames after the frame they were detected on and
@@ -254,7 +246,7 @@ cv::Mat DynamicFeatureFilter::prepare(const RGBDFrame& frame, const cv::Mat& gra
   if (box_mask.empty())
     box_mask = confirmed_mask;
   else if (!confirmed_mask.empty())
-    box_mask |= confirmed_mask;
+    cv::max(box_mask, confirmed_mask, box_mask);
   times_["boxes"].push_back(ms_boxes + msSince(t0));
   prior_parts_ = buildMask(pre, box_mask);
   to_judge_ = std::make_unique<FrameToJudge>();
@@ -274,7 +266,6 @@ cv::Mat DynamicFeatureFilter::prepare(const RGBDFrame& frame, const cv::Mat& gra
     j.boxes = boxes_now_;
   }
   memory_.regions = pre.mask;
-  writeDebugImage(prior_parts_);
   pre_carried_ = std::move(pre.carried);
   pre_carried_age_ = std::move(pre.carried_age);
   prepare_ms_ = msSince(t_all);
@@ -309,27 +300,11 @@ PreLabels DynamicFeatureFilter::label(const RGBDFrame&, const cv::Mat&,
   return out;
 }
 
-void DynamicFeatureFilter::writeDebugImage(const MaskParts& parts) const {
-  if (debug_dir_.empty()) return;
-  // Diagnostics: B = box mask, G = grown regions, R = everything before dilation.
-  const cv::Mat zeros = cv::Mat::zeros(mask_.size(), CV_8U);
-  cv::Mat all = parts.tracks.clone();
-  if (!parts.regions.empty()) all |= parts.regions;
-  if (!parts.boxes.empty()) all |= parts.boxes;
-  cv::Mat planes[3] = {parts.boxes.empty() ? zeros.clone() : parts.boxes.clone(),
-                       parts.regions.empty() ? zeros : parts.regions, all};
-  for (const auto& b : boxes_now_) cv::rectangle(planes[0], cv::Rect(b.box), cv::Scalar(128), 2);
-  cv::Mat bgr;
-  cv::merge(planes, 3, bgr);
-  char name[32];
-  std::snprintf(name, sizeof name, "/%06ld.png", memory_.frame);
-  cv::imwrite(debug_dir_ + name, bgr);
-}
-
 void DynamicFeatureFilter::countFinal(const KeypointLabels& labels) {
   for (std::size_t i = 0; i < labels.size(); ++i) {
     unsure_count_ += labels.unsure(i);
-    for (int b = 0; b < cue::kCount; ++b) cue_counts_[std::size_t(b)] += (labels.cues[i] >> b) & 1u;
+    const uint16_t bits = labels.cues[i].bits();
+    for (int b = 0; b < cue::kCount; ++b) cue_counts_[std::size_t(b)] += (bits >> b) & 1u;
   }
 }
 
@@ -341,7 +316,7 @@ std::optional<KeypointLabels> DynamicFeatureFilter::judge(std::unique_ptr<Pendin
     countFinal(j->prior);  // the prior stays
     return std::nullopt;
   }
-  std::vector<uint16_t> cues;
+  std::vector<CueMeasures> cues;
   if (pose.has_last_pose) {
     cues = judgeUnderMotion(*j, pose);
   } else {
@@ -401,17 +376,22 @@ void DynamicFeatureFilter::collectMoving(MotionEvidence& ev,
                                          const std::vector<uint8_t>& tracked,
                                          const std::vector<uint8_t>& ages) const {
   const MotionResult& r = ev.r;
-  for (std::size_t i = 0; i < r.dynamic.size(); ++i) {
+  for (std::size_t k = 0; k < r.tracked_index.size(); ++k) {
+    const std::size_t i = std::size_t(r.tracked_index[k]);
     if (!tracked[i]) continue;
     const uint8_t age_before = ages[i];
     if (!r.dynamic[i] && !age_before) continue;
     // Moving now: carried for carry_frames; carried before: one less.
-    ev.addMoving(cur_points[i], r.dynamic[i] ? p_.carry_frames : int(age_before) - 1);
+    if (r.dynamic[i])
+      ev.addMoving(cur_points[i], p_.carry_frames,
+                   motionMeasure(r.geometry, k, p_.motion.depth_tolerance));
+    else
+      ev.addMoving(cur_points[i], int(age_before) - 1, 1.f);
   }
 }
 
-std::vector<uint16_t> DynamicFeatureFilter::judgeUnderMotion(FrameToJudge& j,
-                                                             const TrackedPose& pose) {
+std::vector<CueMeasures> DynamicFeatureFilter::judgeUnderMotion(FrameToJudge& j,
+                                                                const TrackedPose& pose) {
   const auto t0 = SteadyClock::now();
   // Previous camera -> current camera, from the tracker.
   const CameraMotion known = cameraMotionBetween(pose.last_pose_wc, pose.pose_wc);
@@ -421,7 +401,7 @@ std::vector<uint16_t> DynamicFeatureFilter::judgeUnderMotion(FrameToJudge& j,
   ev.mask = ev.r.mask;
   collectMoving(ev, j.cur_points, j.tracked, j.prev_age);
   const MaskParts parts = buildMask(ev, j.box_mask);
-  std::vector<uint16_t> cues = cuesOnMask(j.keypoints, parts);
+  std::vector<CueMeasures> cues = cuesOnMask(j.keypoints, parts);
   // The map's evidence: keypoints the tracker matched to map points under
   // this pose are static; a judgement labelling many of them moving is
   // wrong (blur, a wrong pose), and the map vetoes it.
@@ -430,7 +410,7 @@ std::vector<uint16_t> DynamicFeatureFilter::judgeUnderMotion(FrameToJudge& j,
   // The dense flow's cues come last and are the weakest: they are kept only
   // where the map does not veto them too.
   if (!vetoed) {
-    std::vector<uint16_t> with_flow = cues;
+    std::vector<CueMeasures> with_flow = cues;
     const cv::Mat mask_before_flow = mask_.clone();
     cueDenseFlow(j, ev.r, with_flow);
     if (mapInliersMoving(pose.map_inliers, policy_, with_flow) > p_.max_map_inliers_flagged)
@@ -439,7 +419,7 @@ std::vector<uint16_t> DynamicFeatureFilter::judgeUnderMotion(FrameToJudge& j,
       cues.swap(with_flow);
   }
   for (std::size_t k = 0; k < cues.size() && k < pose.map_inliers.size(); ++k)
-    if (pose.map_inliers[k]) cues[k] |= cue::kMapInlier;
+    if (pose.map_inliers[k]) cues[k].add(cue::kMapInlier, pose.map_inliers[k]);
   times_["judge"].push_back(msSince(t0));
   if (vetoed) {
     ++rejected_judgements_;
@@ -448,11 +428,12 @@ std::vector<uint16_t> DynamicFeatureFilter::judgeUnderMotion(FrameToJudge& j,
     // what they saw moving off the map's inliers is not vouched for either
     // (a walker filling the view would otherwise enter the map in the very
     // frames whose judgement it spoils).
-    std::vector<uint16_t> out = j.prior.cues;
+    std::vector<CueMeasures> out = j.prior.cues;
     for (std::size_t k = 0; k < out.size(); ++k) {
-      if (k < pose.map_inliers.size() && pose.map_inliers[k]) out[k] |= cue::kMapInlier;
-      if ((cues[k] & kMotionCues) && !(out[k] & (kMotionCues | cue::kMapInlier)))
-        out[k] |= cue::kVetoed;
+      if (k < pose.map_inliers.size() && pose.map_inliers[k])
+        out[k].add(cue::kMapInlier, pose.map_inliers[k]);
+      if (cues[k].has(kMotionCues) && !out[k].has(kMotionCues | cue::kMapInlier))
+        out[k].add(cue::kVetoed);
     }
     cueMovedSpace(j, pose.pose_wc, out);
     logf(LogLevel::kTrace, "dynamic", "frame %ld: judgement vetoed: %.2f of the map inliers moving",
@@ -463,17 +444,37 @@ std::vector<uint16_t> DynamicFeatureFilter::judgeUnderMotion(FrameToJudge& j,
   const cv::Size size = j.cur_depth.size();
   const double spacing =
       std::sqrt(double(size.area()) / double(std::max<std::size_t>(1, j.prev_points.size())));
-  const std::vector<uint8_t> covered = keypointsOnCoveredTracks(
-      j.keypoints, j.cur_points, ev.r.tracked,
+  // What the nearest judged track saw: it moved (the keypoint is beside a
+  // mover), or, within the margin, it passed its tests (its own feature).
+  // None within a spacing but a covered track: something came in front of
+  // what the previous frame tracked, which nothing has judged yet. (Where
+  // the previous frame had nothing - the edge the camera turns towards - or
+  // lost tracks to blur, keypoints stay judged.)
+  const double beside_radius = p_.moving_neighbour_spacings * spacing;
+  const std::vector<int> nearest =
+      nearestTracks(j.keypoints, j.cur_points, ev.r.tracked, size,
+                    std::max({beside_radius, spacing, double(p_.mask_margin_px)}));
+  const std::vector<cv::Point2f> covered_now =
       coveredTracksNow(j.prev_points, ev.r.tracked, j.prev_depth, j.cur_depth, camera_, known,
-                       p_.motion.depth_edge_ratio, p_.covered_depth_ratio),
-      size, spacing);
-  const std::vector<uint8_t> beside_moving =
-      keypointsNearestToMovingTracks(j.keypoints, j.cur_points, ev.r.tracked, ev.r.dynamic, size,
-                                     p_.moving_neighbour_spacings * spacing);
+                       p_.motion.depth_edge_ratio, p_.covered_depth_ratio);
+  const std::vector<int> near_covered = nearestTracks(
+      j.keypoints, covered_now, std::vector<uint8_t>(covered_now.size(), 1), size, spacing);
+  std::vector<float> test_ratio(j.cur_points.size(), NAN);
+  for (std::size_t k = 0; k < ev.r.tracked_index.size(); ++k)
+    test_ratio[std::size_t(ev.r.tracked_index[k])] =
+        testRatio(ev.r.geometry, k, p_.motion.depth_tolerance);
   for (std::size_t k = 0; k < cues.size(); ++k) {
-    if (covered[k]) cues[k] |= cue::kCoveredTrack;
-    if (beside_moving[k]) cues[k] |= cue::kBesideMoving;
+    const int t = nearest[k];
+    const cv::Point2f d = t < 0 ? cv::Point2f() : j.cur_points[std::size_t(t)] - j.keypoints[k].pt;
+    const double dist = t < 0 ? HUGE_VAL : std::sqrt(d.dot(d));
+    if (near_covered[k] >= 0 && dist >= spacing) cues[k].add(cue::kCoveredTrack);
+    if (t < 0) continue;
+    if (ev.r.dynamic[std::size_t(t)]) {
+      if (dist < beside_radius) cues[k].add(cue::kBesideMoving);
+    } else if (dist <= p_.mask_margin_px && !j.prev_age[std::size_t(t)] &&
+               test_ratio[std::size_t(t)] < 1) {
+      cues[k].add(cue::kStaticTrack, 1.f / std::max(test_ratio[std::size_t(t)], 1.f / 8));
+    }
   }
   voteMovedSpace(j, pose.pose_wc, ev.r);
   cueMovedSpace(j, pose.pose_wc, cues);
@@ -482,7 +483,6 @@ std::vector<uint16_t> DynamicFeatureFilter::judgeUnderMotion(FrameToJudge& j,
   // either saw moving stays out of the map, which other keyframes fill in.
   mask_ |= j.prior_mask;
   ++judged_frames_;
-  writeDebugImage(parts);
   logf(LogLevel::kTrace, "dynamic", "frame %ld: judged under the tracker's motion", j.frame);
   // The next frame goes on from these verdicts.
   selectFlowPoints(j.keypoints, ev.carried, ev.carried_age);
@@ -512,7 +512,7 @@ void DynamicFeatureFilter::voteMovedSpace(const FrameToJudge& j, const cv::Matx4
 }
 
 void DynamicFeatureFilter::cueMovedSpace(const FrameToJudge& j, const cv::Matx44d& pose_wc,
-                                         std::vector<uint16_t>& cues) {
+                                         std::vector<CueMeasures>& cues) {
   MovedSpaceMemory& moved = memory_.moved_space;
   if (!moved.enabled() || j.cur_depth.empty()) return;
   const float edge_ratio = p_.motion.depth_edge_ratio;
@@ -523,15 +523,16 @@ void DynamicFeatureFilter::cueMovedSpace(const FrameToJudge& j, const cv::Matx44
     if (moved.movedRecently(
             worldPoint(pose_wc, backProject(j.cur_depth, pts[k], undist[k], camera_, edge_ratio)),
             j.frame))
-      cues[k] |= cue::kMovedSpace;
+      cues[k].add(cue::kMovedSpace);
   if (j.frame / kForgetPeriodFrames != memory_.forgotten_period) {
     memory_.forgotten_period = j.frame / kForgetPeriodFrames;
     moved.forgetBefore(j.frame);
   }
 }
 
-void DynamicFeatureFilter::MotionEvidence::addMoving(const cv::Point2f& p, int age) {
+void DynamicFeatureFilter::MotionEvidence::addMoving(const cv::Point2f& p, int age, float x) {
   moving.push_back(p);
+  moving_x.push_back(x);
   // Carried on only inside a region that passed the vote: an isolated
   // outlier carried for 3 frames would triple the outlier rate the vote
   // has to beat.
@@ -563,7 +564,12 @@ cv::Mat DynamicFeatureFilter::boxMask(const cv::Mat& depth, const std::vector<De
       hints[b] = z[z.size() / 2];
     }
   }
-  return box_masker_.computeFromBoxes(depth, camera_.depth_scale, boxes, nullptr, &hints);
+  // Each box's surface holds its score in units of the detector's threshold.
+  std::vector<uint8_t> values(boxes.size());
+  const double threshold = std::max(double(p_.detector.conf_threshold), 1e-3);
+  for (std::size_t b = 0; b < boxes.size(); ++b)
+    values[b] = measurePixel(double(boxes[b].score) / threshold);
+  return box_masker_.computeFromBoxes(depth, camera_.depth_scale, boxes, nullptr, &hints, &values);
 }
 
 DynamicFeatureFilter::MaskParts DynamicFeatureFilter::buildMask(const MotionEvidence& ev,
@@ -571,12 +577,20 @@ DynamicFeatureFilter::MaskParts DynamicFeatureFilter::buildMask(const MotionEvid
   MaskParts parts;
   parts.regions = ev.mask;
   parts.tracks = cv::Mat::zeros(mask_.size(), CV_8UC1);
-  if (p_.moving_point_radius_px > 0)
-    for (const auto& q : ev.moving)
-      cv::circle(parts.tracks, q, p_.moving_point_radius_px, cv::Scalar(255), cv::FILLED);
+  if (p_.moving_point_radius_px > 0) {
+    // Each disc holds its track's measure; where discs overlap, the larger.
+    std::vector<std::size_t> order(ev.moving.size());
+    for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::stable_sort(order.begin(), order.end(),
+                     [&](std::size_t a, std::size_t b) { return ev.moving_x[a] < ev.moving_x[b]; });
+    for (std::size_t i : order)
+      cv::circle(parts.tracks, ev.moving[i], p_.moving_point_radius_px,
+                 cv::Scalar(measurePixel(ev.moving_x[i])), cv::FILLED);
+  }
   parts.boxes = box_mask;
   mask_ = ev.mask.empty() ? parts.tracks.clone() : (ev.mask | parts.tracks);
   if (!box_mask.empty()) mask_ |= box_mask;
+  mask_ = mask_ != 0;
   if (p_.mask_margin_px > 0 && cv::countNonZero(mask_) > 0) {
     const int k = 2 * p_.mask_margin_px + 1;
     cv::dilate(mask_, mask_, cv::getStructuringElement(cv::MORPH_ELLIPSE, {k, k}));
@@ -584,9 +598,9 @@ DynamicFeatureFilter::MaskParts DynamicFeatureFilter::buildMask(const MotionEvid
   return parts;
 }
 
-std::vector<uint16_t> DynamicFeatureFilter::cuesOnMask(const std::vector<cv::KeyPoint>& keypoints,
-                                                       const MaskParts& parts) const {
-  std::vector<uint16_t> cues(keypoints.size(), 0);
+std::vector<CueMeasures> DynamicFeatureFilter::cuesOnMask(
+    const std::vector<cv::KeyPoint>& keypoints, const MaskParts& parts) const {
+  std::vector<CueMeasures> cues(keypoints.size());
   const cv::Rect image(0, 0, mask_.cols, mask_.rows);
   const std::pair<const cv::Mat*, uint16_t> sources[3] = {{&parts.regions, cue::kRegion},
                                                           {&parts.tracks, cue::kMovingTrack},
@@ -596,20 +610,19 @@ std::vector<uint16_t> DynamicFeatureFilter::cuesOnMask(const std::vector<cv::Key
     if (!image.contains(p) || !mask_.at<uint8_t>(p)) continue;
     for (const auto& [part, bit] : sources) {
       if (part->empty()) continue;
+      uint8_t v = 0;  // the strongest evidence within the margin
       for (const cv::Point& o : margin_offsets_) {
         const cv::Point q = p + o;
-        if (image.contains(q) && part->at<uint8_t>(q)) {
-          cues[i] |= bit;
-          break;
-        }
+        if (image.contains(q)) v = std::max(v, part->at<uint8_t>(q));
       }
+      if (v) cues[i].add(bit, measureOfPixel(v));
     }
   }
   return cues;
 }
 
 std::size_t DynamicFeatureFilter::cueDenseFlow(const FrameToJudge& j, const MotionResult& judged,
-                                               std::vector<uint16_t>& cues) {
+                                               std::vector<CueMeasures>& cues) {
   const GeometryResult& g = judged.geometry;
   if (!g.has_pose || !memory_.dense_flow.hasFlow()) return 0;
   CameraMotion motion;
@@ -621,8 +634,8 @@ std::size_t DynamicFeatureFilter::cueDenseFlow(const FrameToJudge& j, const Moti
                                                             motion, p_.motion.depth_edge_ratio);
   std::size_t n = 0;
   for (std::size_t k = 0; k < e.size() && k < cues.size(); ++k) {
-    if ((cues[k] & kMotionCues) || !(e[k] > threshold)) continue;  // (NaN: no test)
-    cues[k] |= cue::kDenseFlow;
+    if (cues[k].has(kMotionCues) || !(e[k] > threshold)) continue;  // (NaN: no test)
+    cues[k].add(cue::kDenseFlow, e[k] / threshold);
     ++n;
     cv::circle(mask_, j.keypoints[k].pt, p_.moving_point_radius_px + p_.mask_margin_px,
                cv::Scalar(255), cv::FILLED);

@@ -30,11 +30,14 @@
 //      replace the prior for the keyframe decision and mapping (with the box
 //      surfaces of the boxes the detector still confirms, not of those
 //      carried on from a miss, and every keypoint the dense flow shows
-//      moving). Doubt cues keep keypoints out of the map: the nearest judged
-//      track moved (a person's outline, where the verdicts end); a track of
-//      the previous frame is covered there (something came in front, not
-//      judged yet); the space was seen moving lately (MovedSpaceMemory: an
-//      object that stops and moves on never enters the map). A judgement
+//      moving). Doubt cues, alone, keep keypoints out of the map: the
+//      nearest judged track moved (a person's outline, where the verdicts
+//      end); a track of the previous frame is covered there (something came
+//      in front, not judged yet); the space was seen moving lately
+//      (MovedSpaceMemory: an object that stops and moves on never enters the
+//      map). Evidence of rest: the keypoint is a map inlier, or sits on a
+//      track that stayed well inside its tests. Each cue says how far its
+//      evidence goes (CueMeasures) and LabelPolicy weighs them. A judgement
 //      that labels too many of the tracker's map inliers moving is vetoed
 //      by the map: the prior stays, and what the judgement saw moving off
 //      the map's inliers is unsure.
@@ -44,11 +47,10 @@
 // Cost: LK runs on at most max_flow_points keypoints of the previous frame
 // (carried moving points first), at half resolution; the box carrying
 // reuses those tracks. The dense flow adds 5-15 ms of CPU a frame.
-// Per-stage times: stageTimes(), logged at exit at level debug (core/log.h),
+// Per-stage times (pyramid, lk, boxes, dense_flow, total; judge per judged
+// frame) are logged at exit at level debug (core/log.h),
 // one line per frame at level trace. DYNSLAM_DEBUG_DYNAMIC_DIR=DIR writes
-// each frame's mask parts to DIR/<frame>.png (blue: boxes, green: grown
-// regions, red: all before the margin dilation) and its judged labels to
-// DIR/<frame>_labels.png.
+// each frame's judged labels to DIR/<frame>_labels.png.
 #include <map>
 #include <memory>
 #include <string>
@@ -171,9 +173,6 @@ class DynamicFeatureFilter : public ObservationPreprocessor {
   /// Per cue (cue:: bit order), the keypoints it was seen at so far, in the
   /// labels each frame ended with.
   const std::vector<std::size_t>& cueCounts() const { return cue_counts_; }
-  /// Per-stage times (ms), one sample per frame: pyramid, lk, boxes
-  /// (carrying + box depth mask), total; and one per judged frame: judge.
-  const std::map<std::string, std::vector<double>>& stageTimes() const { return times_; }
 
  private:
   struct FrameToJudge;
@@ -189,11 +188,12 @@ class DynamicFeatureFilter : public ObservationPreprocessor {
     MotionResult r;
     cv::Mat mask;  ///< regions; empty = none
     std::vector<cv::Point2f> moving;
+    std::vector<float> moving_x;  ///< the moving_track measure of each
     std::vector<cv::Point2f> carried;
     std::vector<uint8_t> carried_age;
-    /// A tracked point that moved (or was carried): kept as moving, and
-    /// carried on for `age` more frames if it lies in `mask`.
-    void addMoving(const cv::Point2f& p, int age);
+    /// A tracked point that moved (or was carried), with measure x: kept as
+    /// moving, and carried on for `age` more frames if it lies in `mask`.
+    void addMoving(const cv::Point2f& p, int age, float x);
   };
   /// The moving and carried points of a classification (ages: the carried
   /// age of each tracked point before it); ev.mask must be set first.
@@ -201,16 +201,14 @@ class DynamicFeatureFilter : public ObservationPreprocessor {
                      const std::vector<uint8_t>& tracked, const std::vector<uint8_t>& ages) const;
   /// The judgement proper (both frames have a pose): cues under the
   /// tracker's motion, or the vetoed judgement's doubt cues.
-  std::vector<uint16_t> judgeUnderMotion(FrameToJudge& j, const TrackedPose& pose);
+  std::vector<CueMeasures> judgeUnderMotion(FrameToJudge& j, const TrackedPose& pose);
   /// Lets the judged tracks vote in the moved space: static, or moving
   /// inside a region that passed the region vote.
   void voteMovedSpace(const FrameToJudge& j, const cv::Matx44d& pose_wc,
                       const MotionResult& judged);
   /// Sets cue::kMovedSpace on the keypoints in space seen moving lately.
   void cueMovedSpace(const FrameToJudge& j, const cv::Matx44d& pose_wc,
-                     std::vector<uint16_t>& cues);
-  /// $DYNSLAM_DEBUG_DYNAMIC_DIR/<frame>.png: the mask's parts.
-  void writeDebugImage(const MaskParts& parts) const;
+                     std::vector<CueMeasures>& cues);
   /// $DYNSLAM_DEBUG_DYNAMIC_DIR/<frame>_labels.png: the judged labels.
   void writeLabelImage(const FrameToJudge& j, const KeypointLabels& labels) const;
   /// The last regions moved by the median flow of the carried points.
@@ -222,14 +220,14 @@ class DynamicFeatureFilter : public ObservationPreprocessor {
   /// The parts of a frame's evidence; mask_ = their union, dilated by the margin.
   MaskParts buildMask(const MotionEvidence& ev, const cv::Mat& box_mask);
   /// Per keypoint, the cues of the parts within the margin of it.
-  std::vector<uint16_t> cuesOnMask(const std::vector<cv::KeyPoint>& keypoints,
+  std::vector<CueMeasures> cuesOnMask(const std::vector<cv::KeyPoint>& keypoints,
                                    const MaskParts& parts) const;
   /// Sets cue::kDenseFlow on the keypoints without a motion cue that the
   /// dense flow shows moving against the judgement's camera motion
   /// (dense_threshold_scale x its reprojection threshold) and marks them on
   /// mask_; returns how many.
   std::size_t cueDenseFlow(const FrameToJudge& j, const MotionResult& judged,
-                           std::vector<uint16_t>& cues);
+                           std::vector<CueMeasures>& cues);
   void selectFlowPoints(const std::vector<cv::KeyPoint>& keypoints,
                         const std::vector<cv::Point2f>& carried,
                         const std::vector<uint8_t>& carried_age);
@@ -258,7 +256,7 @@ class DynamicFeatureFilter : public ObservationPreprocessor {
   cv::Mat mask_;
   std::vector<Detection> boxes_now_;
   std::map<std::string, std::vector<double>> times_;
-  // $DYNSLAM_DEBUG_DYNAMIC_DIR: per-frame PNG of the mask's parts (diagnostics).
+  // $DYNSLAM_DEBUG_DYNAMIC_DIR: per-frame PNG of the labels (diagnostics).
   std::string debug_dir_;
   std::vector<std::size_t> cue_counts_ = std::vector<std::size_t>(cue::kCount, 0);
   std::size_t unsure_count_ = 0;

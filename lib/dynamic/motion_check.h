@@ -50,7 +50,7 @@
 //   std::vector<cv::Point2f> pts = check.track(prev, cur, prev_points, tracked);
 //   MotionResult r = check.classify(prev_points, pts, tracked, prev.depth, cur.depth,
 //                                   camera, boxes, {}, carried, known_motion);
-//   // r.dynamic[i]: point i moves; r.mask: CV_8U 255 = dynamic pixels of cur
+//   // r.dynamic[i]: point i moves; r.mask: CV_8U, non-zero = dynamic pixels of cur
 //   prev = std::move(cur);
 // Not thread-safe per instance (keeps region-growing buffers).
 // Cost (640x480, ~1000 points): see apps/bench/bench_dynamic.cpp.
@@ -83,7 +83,7 @@ struct MotionResult {
   GeometryResult geometry;              ///< per tracked point, in tracked order
   Correspondences correspondences;      ///< what geometry was computed from (same order)
   std::vector<int> tracked_index;       ///< geometry row -> input index
-  cv::Mat mask;                         ///< CV_8U, 255 = dynamic pixel of the current frame
+  cv::Mat mask;  ///< CV_8U, non-zero = dynamic pixel of the current frame (its region's vote)
   double ms_geometry = 0, ms_mask = 0;
 };
 

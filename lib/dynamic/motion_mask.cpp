@@ -44,10 +44,13 @@ cv::Mat growMotionMask(DepthRegionGrower& grower, const MotionCheckParams& param
     ++total[l];
     dyn[l] += moving[k];
   }
+  // A kept region's pixels hold its vote: the share of its tracked points
+  // that moved, in units of the share the vote needs.
   std::vector<uint8_t> keep(regions + 1, 0);
+  const double ratio = std::max(double(params.region_min_dynamic_ratio), 1.0 / 255);
   for (int l = 1; l <= regions; ++l)
-    keep[l] =
-        dyn[l] >= params.grow.min_seeds && dyn[l] >= params.region_min_dynamic_ratio * total[l];
+    if (dyn[l] >= params.grow.min_seeds && dyn[l] >= params.region_min_dynamic_ratio * total[l])
+      keep[l] = measurePixel(double(dyn[l]) / std::max(1, total[l]) / ratio);
   cv::Mat mask = grower.maskOf(keep);
   if (cv::countNonZero(mask) > 0) {
     // Depth regions leak where a person touches furniture at the same

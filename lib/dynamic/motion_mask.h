@@ -15,7 +15,8 @@
 
 namespace dynslam {
 
-/// CV_8U mask (255 = dynamic) of image_size. seeds: where regions grow from
+/// CV_8U evidence image of image_size (0 = static; else the region's share of
+/// moving tracks over region_min_dynamic_ratio, as measurePixel). seeds: where regions grow from
 /// (raw pixels; limits[k], if not empty, bounds seed k's region: its box);
 /// raw_cur / moving: every tracked point of the frame (raw pixels) and
 /// whether it moved (or was carried), for the vote and the cut. cur_depth:

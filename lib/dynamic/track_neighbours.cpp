@@ -5,12 +5,10 @@
 
 namespace dynslam {
 
-std::vector<uint8_t> keypointsNearestToMovingTracks(const std::vector<cv::KeyPoint>& keys,
-                                                    const std::vector<cv::Point2f>& points,
-                                                    const std::vector<uint8_t>& tracked,
-                                                    const std::vector<uint8_t>& moving,
-                                                    cv::Size size, double radius) {
-  std::vector<uint8_t> out(keys.size(), 0);
+std::vector<int> nearestTracks(const std::vector<cv::KeyPoint>& keys,
+                               const std::vector<cv::Point2f>& points,
+                               const std::vector<uint8_t>& tracked, cv::Size size, double radius) {
+  std::vector<int> out(keys.size(), -1);
   if (!(radius > 0)) return out;
   // Buckets of `radius` pixels: a track within radius lies in the key's
   // bucket or one of its eight neighbours.
@@ -41,7 +39,7 @@ std::vector<uint8_t> keypointsNearestToMovingTracks(const std::vector<cv::KeyPoi
             nearest = i;
           }
         }
-    out[k] = nearest >= 0 && std::size_t(nearest) < moving.size() && moving[std::size_t(nearest)];
+    out[k] = nearest;
   }
   return out;
 }

@@ -16,7 +16,7 @@ void KeypointTruthScorer::addFrame(const std::string& rgb_source, cv::Size image
                                    const std::vector<uint8_t>& flags,
                                    const std::vector<uint8_t>& flags_before_tracking,
                                    const std::vector<cv::Rect2f>& person_boxes,
-                                   const std::vector<uint16_t>& cues) {
+                                   const std::vector<CueMeasures>& cues) {
   const cv::Mat gt = loadTruthMask(truthMaskPath(masks_dir_, rgb_source), image_size);
   frames_.push_back(scoreKeypoints(points, flags, gt, kMarginPx, &person_boxes, 0.01,
                                    cues.empty() ? nullptr : &cues));
@@ -56,6 +56,23 @@ void KeypointTruthScorer::writeJson(JsonWriter& w) const {
         .value("walker", total_.walker_flagged_by_cue[b])
         .value("walker_only", total_.walker_flagged_only_cue[b])
         .endObject();
+  w.endObject();
+  // Per cue: how far its evidence went (CueMeasures) on the static and the
+  // walker keypoints it was seen at, flagged or not.
+  w.beginObject("measure_histograms")
+      .value("first", 1.0)
+      .value("bin_width", MaskScore::kMeasureBinWidth)
+      .value("last_bin", "everything above");
+  for (int b = 0; b < cue::kCount; ++b) {
+    w.beginObject(cue::name(b));
+    for (const auto& [name, h] : {std::pair{"static", &total_.static_measures[std::size_t(b)]},
+                                  std::pair{"walker", &total_.walker_measures[std::size_t(b)]}}) {
+      w.beginArray(name);
+      for (int n : *h) w.element(n);
+      w.endArray();
+    }
+    w.endObject();
+  }
   w.endObject();
   // The scores above are of the final flags (what mapping uses); tracking
   // used these, before the frames the tracker's pose revised.

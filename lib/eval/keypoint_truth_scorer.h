@@ -11,6 +11,7 @@
 #include <opencv2/core.hpp>
 
 #include "core/json_writer.h"
+#include "core/keypoint_labels.h"
 #include "eval/mask_scoring.h"
 
 namespace dynslam {
@@ -32,7 +33,7 @@ class KeypointTruthScorer {
                 const std::vector<cv::Point2f>& points, const std::vector<uint8_t>& flags,
                 const std::vector<uint8_t>& flags_before_tracking,
                 const std::vector<cv::Rect2f>& person_boxes,
-                const std::vector<uint16_t>& cues = {});
+                const std::vector<CueMeasures>& cues = {});
 
   const std::string& masksDir() const { return masks_dir_; }
   const MaskScore& total() const { return total_; }

@@ -2,6 +2,7 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -11,10 +12,19 @@
 namespace dynslam {
 namespace {
 constexpr uint16_t kMotionCueBits = cue::kBox | cue::kRegion | cue::kMovingTrack | cue::kDenseFlow;
-}  // namespace
-namespace {
+
 double ratio(int a, int b) {
   return b > 0 ? double(a) / b : std::numeric_limits<double>::quiet_NaN();
+}
+
+/// Adds each cue's measure to its histogram.
+void binMeasures(const CueMeasures& m, std::array<MaskScore::Histogram, MaskScore::kCueBits>& h) {
+  for (int b = 0; b < cue::kCount; ++b) {
+    const double x = m.x[std::size_t(b)];
+    if (!(x > 0)) continue;
+    const double bin = std::floor((x - 1.0) / MaskScore::kMeasureBinWidth);
+    ++h[std::size_t(b)][std::size_t(std::clamp(bin, 0.0, double(MaskScore::kMeasureBins - 1)))];
+  }
 }
 }  // namespace
 
@@ -42,6 +52,10 @@ MaskScore& MaskScore::operator+=(const MaskScore& o) {
     static_flagged_only_cue[b] += o.static_flagged_only_cue[b];
     walker_flagged_by_cue[b] += o.walker_flagged_by_cue[b];
     walker_flagged_only_cue[b] += o.walker_flagged_only_cue[b];
+    for (int k = 0; k < kMeasureBins; ++k) {
+      static_measures[b][k] += o.static_measures[b][k];
+      walker_measures[b][k] += o.walker_measures[b][k];
+    }
   }
   return *this;
 }
@@ -49,7 +63,7 @@ MaskScore& MaskScore::operator+=(const MaskScore& o) {
 MaskScore scoreKeypoints(const std::vector<cv::Point2f>& points,
                          const std::vector<uint8_t>& dynamic_flags, const cv::Mat& gt_mask,
                          int margin_px, const std::vector<cv::Rect2f>* person_boxes,
-                         double unmasked_overlap, const std::vector<uint16_t>* cues) {
+                         double unmasked_overlap, const std::vector<CueMeasures>* cues) {
   if (points.size() != dynamic_flags.size() || (cues && cues->size() != points.size()))
     throw std::invalid_argument("scoreKeypoints: points, flags and cues differ in size");
   if (gt_mask.empty() || gt_mask.type() != CV_8UC1)
@@ -91,7 +105,7 @@ MaskScore scoreKeypoints(const std::vector<cv::Point2f>& points,
     auto countCues = [&](std::array<int, MaskScore::kCueBits>& by,
                          std::array<int, MaskScore::kCueBits>& only) {
       if (!f || !cues) return;
-      const uint16_t c = (*cues)[i];
+      const uint16_t c = (*cues)[i].bits();
       for (int b = 0; b < MaskScore::kCueBits; ++b) by[b] += (c >> b) & 1;
       const uint16_t motion = c & kMotionCueBits;
       if (motion && !(motion & (motion - 1))) ++only[std::size_t(__builtin_ctz(motion))];
@@ -100,6 +114,7 @@ MaskScore scoreKeypoints(const std::vector<cv::Point2f>& points,
       ++s.walker_points;
       s.walker_flagged += f;
       countCues(s.walker_flagged_by_cue, s.walker_flagged_only_cue);
+      if (cues) binMeasures((*cues)[i], s.walker_measures);
     } else if (standing_core.at<uint8_t>(y, x)) {
       ++s.standing_points;
       s.standing_flagged += f;
@@ -107,6 +122,7 @@ MaskScore scoreKeypoints(const std::vector<cv::Point2f>& points,
       ++s.static_points;
       s.static_flagged += f;
       countCues(s.static_flagged_by_cue, s.static_flagged_only_cue);
+      if (cues) binMeasures((*cues)[i], s.static_measures);
       for (const auto& r : unmasked)
         if (r.contains(cv::Point(x, y))) {
           ++s.static_in_unmasked_box;

@@ -22,6 +22,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "core/keypoint_labels.h"
+
 namespace dynslam {
 
 struct MaskScore {
@@ -41,9 +43,17 @@ struct MaskScore {
   /// the flagged static / walker keypoints that cue was seen at, and those
   /// it was the only one of the four motion cues at (what dropping that cue
   /// alone would unflag).
-  static constexpr int kCueBits = 16;
+  static constexpr int kCueBits = cue::kCount;
   std::array<int, kCueBits> static_flagged_by_cue{}, static_flagged_only_cue{};
   std::array<int, kCueBits> walker_flagged_by_cue{}, walker_flagged_only_cue{};
+  /// Per cue, the distribution of its measure (CueMeasures) over all static
+  /// / walker keypoints it was seen at, flagged or not: bin b holds measures
+  /// in [1 + b w, 1 + (b + 1) w) with w = kMeasureBinWidth, the last bin
+  /// everything above.
+  static constexpr int kMeasureBins = 29;
+  static constexpr double kMeasureBinWidth = 0.25;
+  using Histogram = std::array<int, kMeasureBins>;
+  std::array<Histogram, kCueBits> static_measures{}, walker_measures{};
 
   /// walker_flagged / walker_points (NaN when no walker point).
   double recall() const;
@@ -60,13 +70,13 @@ struct MaskScore {
 /// against `gt_mask` (CV_8UC1, see above). Points outside the image are skipped.
 /// person_boxes (optional): detected person boxes of the frame; a box counts as
 /// "unmasked" when at most unmasked_overlap of its area is composite person
-/// (mask > 0). cues (optional, one per point): the dynamic stage's cue bits
-/// (core/keypoint_labels.h), counted per cue for flagged points. Throws std::invalid_argument on
+/// (mask > 0). cues (optional, one per point): the dynamic stage's cues
+/// (core/keypoint_labels.h), counted per cue and binned by measure. Throws std::invalid_argument on
 /// mismatched sizes, a mask that is not CV_8UC1, or a negative margin.
 MaskScore scoreKeypoints(const std::vector<cv::Point2f>& points,
                          const std::vector<uint8_t>& dynamic_flags, const cv::Mat& gt_mask,
                          int margin_px = 3, const std::vector<cv::Rect2f>* person_boxes = nullptr,
                          double unmasked_overlap = 0.01,
-                         const std::vector<uint16_t>* cues = nullptr);
+                         const std::vector<CueMeasures>* cues = nullptr);
 
 }  // namespace dynslam

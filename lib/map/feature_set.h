@@ -33,9 +33,9 @@ struct FeatureSet {
   /// something moved lately) is judged before it can enter the map.
   /// Empty: none.
   std::vector<uint8_t> unsure;
-  /// The dynamic stage's cues per keypoint (cue:: bits of keypoint_labels.h;
+  /// The dynamic stage's cues per keypoint (CueMeasures of keypoint_labels.h;
   /// empty without that stage): for counts and debugging only.
-  std::vector<uint16_t> cues;
+  std::vector<CueMeasures> cues;
   std::vector<cv::Vec3b> colors;  ///< BGR at each keypoint (for map exports)
   /// Keypoint indices per grid cell (static keypoints only).
   std::vector<std::vector<int>> grid;

@@ -126,6 +126,36 @@ void forEachMotionCheckOption(P& p, F&& f) {
   f("max_seed_distance_px", p.max_seed_distance_px);
 }
 
+/// LabelPolicyParams: each graded cue's three keys, then the doubt cues'
+/// weights (log-odds, so signed).
+template <class P, class F>
+void forEachLabelOption(P& p, F&& f) {
+  f("box_weak", p.box.weak);
+  f("box_strong", p.box.strong);
+  f("box_full_at", p.box.full_at);
+  f("region_weak", p.region.weak);
+  f("region_strong", p.region.strong);
+  f("region_full_at", p.region.full_at);
+  f("moving_track_weak", p.moving_track.weak);
+  f("moving_track_strong", p.moving_track.strong);
+  f("moving_track_full_at", p.moving_track.full_at);
+  f("dense_flow_weak", p.dense_flow.weak);
+  f("dense_flow_strong", p.dense_flow.strong);
+  f("dense_flow_full_at", p.dense_flow.full_at);
+  f("map_inlier_weak", p.map_inlier.weak);
+  f("map_inlier_strong", p.map_inlier.strong);
+  f("map_inlier_full_at", p.map_inlier.full_at);
+  f("static_track_weak", p.static_track.weak);
+  f("static_track_strong", p.static_track.strong);
+  f("static_track_full_at", p.static_track.full_at);
+  f("covered_track", p.covered_track);
+  f("beside_moving", p.beside_moving);
+  f("moved_space", p.moved_space);
+  f("vetoed", p.vetoed);
+  f("moving_at", p.moving_at);
+  f("unsure_at", p.unsure_at);
+}
+
 template <class P, class F>
 void forEachRegionGrowOption(P& p, F&& f) {
   f("step_tolerance", p.step_tolerance);
@@ -172,6 +202,7 @@ void forEachSlamConfigSection(Config& c, F&& f) {
   f("dynamic.motion_check", [&](auto&& g) { forEachMotionCheckOption(c.dynamic.motion, g); });
   f("dynamic.motion_check.region_grow",
     [&](auto&& g) { forEachRegionGrowOption(c.dynamic.motion.grow, g); });
+  f("labels", [&](auto&& g) { forEachLabelOption(c.dynamic.labels, g); });
   f("loop_closing", [&](auto&& g) { forEachLoopClosingOption(c.loop, g); });
   f("localisation", [&](auto&& g) { forEachLocalisationOption(c.localisation, g); });
   f("map_export", [&](auto&& g) { forEachDenseMapOption(c.map_export, g); });

@@ -8,6 +8,19 @@ namespace dynslam {
 
 namespace {
 
+KeyRanges labelRanges() {
+  KeyRanges r;
+  for (const char* cue : {"box", "region", "moving_track", "dense_flow", "map_inlier", "static_track"}) {
+    r.push_back({std::string(cue) + "_weak", closedRange(-20, 20)});
+    r.push_back({std::string(cue) + "_strong", closedRange(-20, 20)});
+    r.push_back({std::string(cue) + "_full_at", leftOpenRange(1, 100)});
+  }
+  for (const char* key :
+       {"covered_track", "beside_moving", "moved_space", "vetoed", "moving_at", "unsure_at"})
+    r.push_back({key, closedRange(-20, 20)});
+  return r;
+}
+
 /// By dotted key. Shares (ratios) lie in [0, 1]; a chi-square outlier
 /// threshold of 0 makes every match an outlier and loses every frame, one
 /// above 100 (sigma 10 at the finest level) makes none; a search window
@@ -45,6 +58,9 @@ const std::vector<std::pair<std::string, KeyRanges>>& slamConfigRanges() {
         {"max_seed_distance_px", closedRange(0, 10000)}}},
       {"dynamic.motion_check.region_grow",
        {{"step_tolerance", leftOpenRange(0, 1)}, {"max_depth_offset_m", leftOpenRange(0, 10)}}},
+      // Log-odds beyond +-20 (odds of 5e8) decide alone whatever else is
+      // seen; a graded cue is full no later than 100 units of its test.
+      {"labels", labelRanges()},
   };
   return ranges;
 }

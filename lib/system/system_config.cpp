@@ -80,12 +80,15 @@ void validateSlamConfig(const SlamConfig& c, const std::string& path) {
 namespace {
 
 /// Every number in the config is a count, a size, a threshold or a weight:
-/// negative values mean nothing (and ran without a word, or hung). The one
-/// signed key is a height that may lie below the floor's estimate.
+/// negative values mean nothing (and ran without a word, or hung). The
+/// signed keys are a height that may lie below the floor's estimate and the
+/// label policy's log-odds (negative: evidence for "static"), whose ranges
+/// slam_config_ranges.cpp checks.
 template <typename T>
 void checkNotNegative(const std::string& key, const T& value, const std::string& path) {
   if constexpr (std::is_arithmetic_v<T> && !std::is_same_v<T, bool>) {
-    if (value < 0 && key != "occupancy_map.grid_floor_height")
+    if (value < 0 && key != "occupancy_map.grid_floor_height" &&
+        key.rfind("labels.", 0) != 0)
       failAtKey(path, key, key + ": must not be negative (got " + formatNumber(value) + ")");
   }
 }

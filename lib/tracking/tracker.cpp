@@ -129,7 +129,8 @@ bool Tracker::isMapInlier(std::size_t i) const {
 
 std::vector<uint8_t> Tracker::currentMapInliers() const {
   std::vector<uint8_t> in(cur_.points.size(), 0);
-  for (std::size_t i = 0; i < cur_.points.size(); ++i) in[i] = isMapInlier(i);
+  for (std::size_t i = 0; i < cur_.points.size(); ++i)
+    if (isMapInlier(i)) in[i] = uint8_t(std::min<std::size_t>(cur_.points[i]->nObs(), 255));
   return in;
 }
 

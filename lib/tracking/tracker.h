@@ -82,8 +82,8 @@ class Tracker {
   TrackResult finishFrame(std::shared_ptr<const FeatureSet> revised = nullptr);
   /// The id the next estimatePose() gives its frame (keyframes' frame_id).
   long nextFrameId() const { return next_frame_id_; }
-  /// After estimatePose(): per keypoint, 1 = matched to a map point and an
-  /// inlier of the pose.
+  /// After estimatePose(): per keypoint, matched to a map point and an inlier
+  /// of the pose, as the keyframes observing that point (up to 255; 0 = not).
   std::vector<uint8_t> currentMapInliers() const;
 
   TrackingState state() const { return state_; }

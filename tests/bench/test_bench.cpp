@@ -554,6 +554,20 @@ TEST(JsonNumberAt, LiteralsAndWholeDocuments) {
   EXPECT_FALSE(isWellFormedJson(R"({"a" 1})"));
 }
 
+// An array element by its index, as the bench plots read report.json's
+// cue histograms ("mask_scores.measure_histograms.box.static.3").
+TEST(JsonNumberAt, ArrayElementsByIndex) {
+  const std::string doc = R"({"a": {"c": [1, "x]", [5, 6], 2.5]}, "d": {"0": 7}, "e": []})";
+  EXPECT_DOUBLE_EQ(jsonNumberAt(doc, "a.c.0"), 1.0);
+  EXPECT_TRUE(std::isnan(jsonNumberAt(doc, "a.c.1")));  // a string
+  EXPECT_DOUBLE_EQ(jsonNumberAt(doc, "a.c.2.1"), 6.0);
+  EXPECT_DOUBLE_EQ(jsonNumberAt(doc, "a.c.3"), 2.5);
+  EXPECT_TRUE(std::isnan(jsonNumberAt(doc, "a.c.4")));  // past the end
+  EXPECT_TRUE(std::isnan(jsonNumberAt(doc, "a.c.x")));
+  EXPECT_TRUE(std::isnan(jsonNumberAt(doc, "e.0")));
+  EXPECT_DOUBLE_EQ(jsonNumberAt(doc, "d.0"), 7.0);  // an object key that looks like an index
+}
+
 TEST(JsonNumberAt, AbsentNullNonNumberOrMalformedIsNaN) {
   const std::string doc = R"({"a": null, "b": "3", "c": {"d": 1}, "e": [2]})";
   EXPECT_TRUE(std::isnan(jsonNumberAt(doc, "a")));

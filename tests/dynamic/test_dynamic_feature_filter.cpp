@@ -385,11 +385,11 @@ TEST(DynamicFeatureFilterTwoPhases, LabelsNameTheirCues) {
       const cv::Point p = pixel(s.keypoints[k][i]);
       if (grown(walker(int(k)), -3).contains(p)) {
         ++on_walker;
-        walker_by_tracks += judged->moving(i) && (judged->cues[i] & kTrackCues);
-        prior_walker += (pre.labels.cues[i] & kTrackCues) != 0;
+        walker_by_tracks += judged->moving(i) && judged->cues[i].has(kTrackCues);
+        prior_walker += pre.labels.cues[i].has(kTrackCues);
       } else if (onWall(p, int(k))) {
         ++wall;
-        wall_motion_cue += (judged->cues[i] & (kTrackCues | cue::kDenseFlow)) != 0;
+        wall_motion_cue += judged->cues[i].has(kTrackCues | cue::kDenseFlow);
       }
     }
     ASSERT_GT(on_walker, 20) << k;
@@ -488,6 +488,40 @@ TEST(DynamicFeatureFilterTwoPhases, CrowdFillingTheViewIsFlaggedNotTheWalls) {
     // walker's edge, where occlusion spoils a good part of the LK tracks.)
     EXPECT_LT(after.background_flagged, (k == 1 ? 0.08 : 0.2) * after.background) << k;
   }
+}
+
+// Graded evidence (issue 63) on the crowd: the same cues, weighed by how far
+// each went, keep static wall keypoints that the binary cues (every motion
+// cue alone is moving, as before the grading) flagged, and still flag the
+// crowd. The two filters differ only in their policy.
+TEST(DynamicFeatureFilterTwoPhases, GradedCuesKeepWallKeypointsTheBinaryCuesFlagged) {
+  const Sequence s = makeCrowdSequence();
+  DynamicFilterParams binary = flowOnly();
+  const CueGrade all_in{3.0, 3.0, 2.0}, none{0.0, 0.0, 2.0};
+  binary.labels.box = binary.labels.region = binary.labels.moving_track = all_in;
+  binary.labels.dense_flow = all_in;
+  binary.labels.map_inlier = binary.labels.static_track = none;
+  binary.labels.covered_track = binary.labels.beside_moving = 0.4;
+  binary.labels.moved_space = binary.labels.vetoed = 0.4;
+  DynamicFeatureFilter graded_filter(flowOnly(), test::sceneCamera());
+  DynamicFeatureFilter binary_filter(binary, test::sceneCamera());
+  int kept = 0, binary_wall_flags = 0;
+  for (std::size_t k = 0; k < s.frames.size(); ++k) {
+    const Phases g = step(graded_filter, s, k, posed(k));
+    const Phases b = step(binary_filter, s, k, posed(k));
+    if (k == 0) continue;
+    const Shares sg = scoreCrowd(s.keypoints[k], g.judged, int(k));
+    const Shares sb = scoreCrowd(s.keypoints[k], b.judged, int(k));
+    EXPECT_GT(sg.walker_flagged, 0.9 * sg.in_walker) << k;
+    EXPECT_LE(sg.background_flagged, sb.background_flagged) << k;
+    binary_wall_flags += sb.background_flagged;
+    const std::vector<uint8_t> one(1, 1);
+    for (std::size_t i = 0; i < g.judged.size(); ++i)
+      kept += b.judged[i] && !g.judged[i] &&
+              scoreCrowd({s.keypoints[k][i]}, one, int(k)).background;
+  }
+  EXPECT_GT(binary_wall_flags, 0) << "the binary cues flag some of the wall";
+  EXPECT_GT(kept, 0) << "the graded cues keep some of them";
 }
 
 // An object that enters the view (a patch absent from frames 0-1, standing

@@ -107,20 +107,31 @@ TEST(BoxDepthMasker, PrefersTheNearPeak) {
   EXPECT_NEAR(z, 1.5, 0.03);
 }
 
+// The regions holding at least min_seeds seeds, as the motion check's vote
+// would keep them when every seed moved.
+cv::Mat grownRegions(DepthRegionGrower& grower, const cv::Mat& depth,
+                     const std::vector<cv::Point2f>& seeds) {
+  const int n = grower.growRegions(depth, kScale, seeds);
+  std::vector<uint8_t> keep(std::size_t(n) + 1, 0);
+  for (int l = 1; l <= n; ++l)
+    keep[std::size_t(l)] = grower.seedCounts()[std::size_t(l)] >= grower.params().min_seeds ? 255 : 0;
+  return grower.maskOf(keep);
+}
+
 TEST(DepthRegionGrower, GrowsOverTheObjectNotAcrossDepthSteps) {
   cv::Mat depth, object;
   personScene(depth, object);
   DepthRegionGrower grower;  // min_seeds = 2
   // Two seeds on the torso grow over the whole person (arm and head join it).
-  const cv::Mat mask = grower.grow(depth, kScale, {{160, 140}, {150, 170}});
+  const cv::Mat mask = grownRegions(grower, depth, {{160, 140}, {150, 170}});
   cv::Mat expected = object.clone();
   expected.setTo(0, depth == 0);
   EXPECT_EQ(cv::countNonZero(mask & ~expected), 0);
   EXPECT_EQ(cv::countNonZero(expected & ~mask), 0);
   // A single seed (an outlier keypoint) flags nothing.
-  EXPECT_EQ(cv::countNonZero(grower.grow(depth, kScale, {{160, 140}})), 0);
+  EXPECT_EQ(cv::countNonZero(grownRegions(grower, depth, {{160, 140}})), 0);
   // Two seeds on the wall: the wall is grown, up to the region size cap.
-  const cv::Mat wall = grower.grow(depth, kScale, {{20, 200}, {40, 220}});
+  const cv::Mat wall = grownRegions(grower, depth, {{20, 200}, {40, 220}});
   EXPECT_EQ(cv::countNonZero(wall & object), 0);
   EXPECT_LE(cv::countNonZero(wall), int(0.25 * 320 * 240) + 4);
   EXPECT_GT(cv::countNonZero(wall), int(0.2 * 320 * 240));

@@ -75,8 +75,13 @@ TEST(MaskScoring, FlaggedPointsCountedByCue) {
   gt(cv::Rect(2, 2, 12, 16)).setTo(1);
   const std::vector<cv::Point2f> pts = {{7, 9}, {8, 10}, {20, 5}, {20, 15}};
   const std::vector<uint8_t> flags = {1, 1, 1, 0};
-  const std::vector<uint16_t> cues = {cue::kRegion, cue::kRegion | cue::kBox,
-                                      cue::kDenseFlow | cue::kMovedSpace, cue::kBox};
+  std::vector<CueMeasures> cues(4);
+  cues[0].add(cue::kRegion, 2.f);
+  cues[1].add(cue::kRegion, 1.1f);
+  cues[1].add(cue::kBox, 3.f);
+  cues[2].add(cue::kDenseFlow, 9.f);
+  cues[2].add(cue::kMovedSpace);
+  cues[3].add(cue::kBox, 1.f);
   const MaskScore s = scoreKeypoints(pts, flags, gt, 3, nullptr, 0.01, &cues);
   auto bit = [](uint16_t c) { return __builtin_ctz(c); };
   EXPECT_EQ(s.walker_flagged_by_cue[bit(cue::kRegion)], 2);
@@ -87,7 +92,15 @@ TEST(MaskScoring, FlaggedPointsCountedByCue) {
   EXPECT_EQ(s.static_flagged_only_cue[bit(cue::kDenseFlow)], 1);
   EXPECT_EQ(s.static_flagged_by_cue[bit(cue::kMovedSpace)], 1);
   EXPECT_EQ(s.static_flagged_by_cue[bit(cue::kBox)], 0) << "not flagged: not counted";
-  const std::vector<uint16_t> short_cues = {0};
+  // Each cue's measure is binned, flagged or not: [1 + b/4, 1 + (b+1)/4),
+  // the last bin everything above.
+  EXPECT_EQ(s.walker_measures[bit(cue::kRegion)][4], 1);  // 2.0
+  EXPECT_EQ(s.walker_measures[bit(cue::kRegion)][0], 1);  // 1.1
+  EXPECT_EQ(s.walker_measures[bit(cue::kBox)][8], 1);     // 3.0
+  EXPECT_EQ(s.static_measures[bit(cue::kDenseFlow)][MaskScore::kMeasureBins - 1], 1);  // 9
+  EXPECT_EQ(s.static_measures[bit(cue::kBox)][0], 1) << "unflagged points count too";
+  EXPECT_EQ(s.static_measures[bit(cue::kRegion)][0], 0);
+  const std::vector<CueMeasures> short_cues(1);
   EXPECT_THROW(scoreKeypoints(pts, flags, gt, 3, nullptr, 0.01, &short_cues),
                std::invalid_argument);
 }

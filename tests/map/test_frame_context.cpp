@@ -226,12 +226,15 @@ TEST(FeatureSet, WithLabelsRelabelsACopy) {
   const auto fs = threeKeypointsMiddleDynamic();
   KeypointLabels labels(3);
   labels.label = {KeypointLabel::kMoving, KeypointLabel::kStatic, KeypointLabel::kUnsure};
-  labels.cues = {cue::kRegion, 0, cue::kMovedSpace};
+  labels.cues[0].add(cue::kRegion, 2.f);
+  labels.cues[2].add(cue::kMovedSpace);
   const auto revised = fs->withLabels(labels);
   EXPECT_EQ(revised->dynamic, (std::vector<uint8_t>{1, 0, 0}));
   EXPECT_EQ(revised->unsure, (std::vector<uint8_t>{0, 0, 1}));
   EXPECT_TRUE(revised->isUnsure(2));
-  EXPECT_EQ(revised->cues, labels.cues);
+  ASSERT_EQ(revised->cues.size(), 3u);
+  EXPECT_FLOAT_EQ(revised->cues[0].of(cue::kRegion), 2.f);
+  EXPECT_EQ(revised->cues[2].bits(), cue::kMovedSpace);
   auto found = revised->featuresInArea(100, 100, 10);
   std::sort(found.begin(), found.end());
   EXPECT_EQ(found, (std::vector<int>{1, 2}));
