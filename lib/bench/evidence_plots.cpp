@@ -8,35 +8,20 @@
 #include <numeric>
 
 #include "core/json_reader.h"
+#include "core/keypoint_labels.h"
 
 namespace dynslam {
 
 namespace {
 
-struct CueInfo {
-  const char* name;
-  const char* unit;  ///< what its measure is; "" for the cues whose measure is always 1
-};
-// The filter's cues in report.json's order (core/keypoint_labels.h).
-constexpr CueInfo kCues[] = {
-    {"box", "detection score / conf_threshold"},
-    {"region", "share of moving tracks / min ratio"},
-    {"moving_track", "track residual / its threshold"},
-    {"dense_flow", "flow residual / its threshold"},
-    {"covered_track", ""},
-    {"beside_moving", ""},
-    {"moved_space", ""},
-    {"vetoed", ""},
-    {"map_inlier", "keyframes observing the map point"},
-    {"static_track", "threshold / track residual"},
-};
 constexpr int kColumns = 3, kRows = 2;
 constexpr std::size_t kMaxBins = 1000;  // more is a damaged report, not a histogram
 constexpr double kLegendScale = 0.42;
 
-const char* unitOf(const std::string& cue) {
-  for (const CueInfo& c : kCues)
-    if (cue == c.name) return c.unit;
+/// The unit of a cue named as in report.json ("" for the always-1 ones).
+const char* unitOf(const std::string& name) {
+  for (int b = 0; b < cue::kCount; ++b)
+    if (name == cue::name(b)) return cue::unit(b);
   return "";
 }
 
@@ -59,8 +44,8 @@ std::string format(const char* fmt, double v) {
 }
 
 void drawCentred(cv::Mat& img, const std::string& text, double x, int baseline) {
-  const int w = cv::getTextSize(text, cv::FONT_HERSHEY_SIMPLEX, 0.42, 1, nullptr).width;
-  drawText(img, text, {cvRound(x) - w / 2, baseline}, 0.42);
+  const int w = cv::getTextSize(text, cv::FONT_HERSHEY_SIMPLEX, kLegendScale, 1, nullptr).width;
+  drawText(img, text, {cvRound(x) - w / 2, baseline}, kLegendScale);
 }
 
 }  // namespace
@@ -71,9 +56,10 @@ std::optional<CueEvidence> readCueEvidence(const std::string& report_json) {
   e.first = jsonNumberAt(report_json, root + "first");
   e.bin_width = jsonNumberAt(report_json, root + "bin_width");
   if (!std::isfinite(e.first) || !(e.bin_width > 0)) return std::nullopt;
-  for (const CueInfo& c : kCues) {
-    CueHistogram h{c.name, readCounts(report_json, root + c.name + ".static"),
-                   readCounts(report_json, root + c.name + ".walker")};
+  for (int b = 0; b < cue::kCount; ++b) {
+    const std::string name = cue::name(b);
+    CueHistogram h{name, readCounts(report_json, root + name + ".static"),
+                   readCounts(report_json, root + name + ".walker")};
     if (sum(h.static_counts) + sum(h.walker_counts) > 0) e.cues.push_back(std::move(h));
   }
   if (e.cues.empty()) return std::nullopt;  // no cue measured (mode off)
@@ -151,23 +137,18 @@ cv::Mat CueEvidencePlot::render(const std::string& title) const {
     }
   }
   // Below the panels: the cues whose measure is always 1 (nothing to draw
-  // but their counts), and the graded cues that saw no keypoint.
-  std::string always_one, unseen;
-  for (const CueHistogram& h : evidence_.cues) {
-    const double n_static = sum(h.static_counts), n_walker = sum(h.walker_counts);
+  // but their counts).
+  std::string always_one;
+  for (const CueHistogram& h : evidence_.cues)
     if (!*unitOf(h.cue))
-      always_one += (always_one.empty() ? "" : ",  ") + h.cue + " " + format("%.0f", n_static) +
-                    " / " + format("%.0f", n_walker);
-    else if (n_static + n_walker <= 0)
-      unseen += (unseen.empty() ? "" : ", ") + h.cue;
-  }
-  int y = size_.height - 50;
+      always_one += (always_one.empty() ? "" : ",  ") + h.cue + " " +
+                    format("%.0f", sum(h.static_counts)) + " / " +
+                    format("%.0f", sum(h.walker_counts));
   if (!always_one.empty()) {
+    const int y = size_.height - 50;
     drawText(img, "Measure always 1, static / walker keypoints:", {20, y}, 0.45);
     drawText(img, always_one, {20, y + 18}, 0.45);
-    y += 40;
   }
-  if (!unseen.empty()) drawText(img, "No keypoints measured by: " + unseen, {20, y}, 0.45);
   return img;
 }
 

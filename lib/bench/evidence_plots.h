@@ -24,7 +24,7 @@ struct CueHistogram {
 
 struct CueEvidence {
   double first = 1.0, bin_width = 0.25;
-  std::vector<CueHistogram> cues;  ///< every cue the report has, in the filter's order
+  std::vector<CueHistogram> cues;  ///< the cues that measured any keypoint, in the filter's order
 };
 
 /// The histograms in a report.json's text, of the cues that measured any

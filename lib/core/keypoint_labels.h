@@ -43,6 +43,21 @@ inline const char* name(int bit) {
                                              "static_track"};
   return bit >= 0 && bit < kCount ? kNames[bit] : "?";
 }
+/// What each cue measures (CueMeasures), in a few words, in bit order; ""
+/// for the cues whose measure is always 1.
+inline const char* unit(int bit) {
+  static const char* const kUnits[kCount] = {"detection score / conf_threshold",
+                                             "share of moving tracks / min ratio",
+                                             "track residual / its threshold",
+                                             "flow residual / its threshold",
+                                             "",
+                                             "",
+                                             "",
+                                             "",
+                                             "keyframes observing the map point",
+                                             "threshold / track residual"};
+  return bit >= 0 && bit < kCount ? kUnits[bit] : "";
+}
 }  // namespace cue
 
 /// What each cue measured at one keypoint; 0 = the cue is absent. The

@@ -8,16 +8,16 @@ namespace dynslam {
 
 namespace {
 
+/// Every key of labels: is log-odds but a graded cue's <cue>_full_at.
 KeyRanges labelRanges() {
   KeyRanges r;
-  for (const char* cue : {"box", "region", "moving_track", "dense_flow", "map_inlier", "static_track"}) {
-    r.push_back({std::string(cue) + "_weak", closedRange(-20, 20)});
-    r.push_back({std::string(cue) + "_strong", closedRange(-20, 20)});
-    r.push_back({std::string(cue) + "_full_at", leftOpenRange(1, 100)});
-  }
-  for (const char* key :
-       {"covered_track", "beside_moving", "moved_space", "vetoed", "moving_at", "unsure_at"})
-    r.push_back({key, closedRange(-20, 20)});
+  LabelPolicyParams p;
+  forEachLabelOption(p, [&](const char* key, double&) {
+    const std::string k = key, suffix = "_full_at";
+    const bool full_at =
+        k.size() > suffix.size() && k.compare(k.size() - suffix.size(), suffix.size(), suffix) == 0;
+    r.push_back({k, full_at ? leftOpenRange(1, 100) : closedRange(-20, 20)});
+  });
   return r;
 }
 
